@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "app/commands.h"
+#include "common/error.h"
+
+namespace flexrod::app {
+
+int Main(int argc, char** argv) {
+  CLI::App app{"flexrod — flexible connecting rods in slider-crank mechanisms with a clearance joint"};
+  app.require_subcommand(1);
+  Handler handler;
+  RegisterModes(app, &handler);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    return handler ? handler() : 2;
+  } catch (const InputError& e) {
+    std::cerr << "flexrod: error: " << e.what() << "\n";
+    return 2;
+  } catch (const NumericalError& e) {
+    std::cerr << "flexrod: numerical failure: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "flexrod: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace flexrod::app

@@ -1,0 +1,58 @@
+// common/error.h — the three error tiers of flexrod (STYLE.md §12).
+//
+// * Programmer bug: FLEXROD_ASSERT (debug assertion).
+// * Bad user input: InputError, thrown before any work starts; its message names the key,
+//   the value and the rule, e.g. "rod.height = -3 mm: must be > 0". The CLI maps it to exit 2.
+// * Numerical outcome (integrator failure, no convergence): NumericalError, carrying time,
+//   state and a hint; callers keep what was computed so far.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <cassert>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#define FLEXROD_ASSERT(cond) assert(cond)
+
+namespace flexrod {
+
+/// Bad user input. what() reads "<key> = <value>: <rule>".
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& key, const std::string& value, const std::string& rule)
+      : std::runtime_error(key + " = " + value + ": " + rule), key_(key), value_(value), rule_(rule) {}
+  const std::string& key() const { return key_; }
+  const std::string& value() const { return value_; }
+  const std::string& rule() const { return rule_; }
+
+ private:
+  std::string key_, value_, rule_;
+};
+
+/// A numerical outcome the caller must handle (solver gave up, no convergence, library error).
+class NumericalError : public std::runtime_error {
+ public:
+  explicit NumericalError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// Formats a double for error messages with enough digits to be unambiguous.
+inline std::string FormatValue(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+/// Throws InputError(key, value, rule) unless cond holds.
+inline void Require(bool cond, const std::string& key, double value, const std::string& rule) {
+  if (!cond) throw InputError(key, FormatValue(value), rule);
+}
+inline void RequirePositive(const std::string& key, double value) {
+  Require(value > 0.0 && value == value, key, value, "must be > 0");
+}
+inline void RequireNonNegative(const std::string& key, double value) {
+  Require(value >= 0.0, key, value, "must be >= 0");
+}
+
+}  // namespace flexrod

@@ -1,0 +1,109 @@
+// fem/reduced_rod.h — model reduction of a rod (Craig–Bampton, orthonormalised CB, free–free
+// modes, or full FE through the same interface) into an immutable ReducedRod: the reduced
+// matrices, the planar floating-frame inertia shape integrals, the node shape rows that
+// markers and joints use, and the strain-gauge rows. Also the per-mode accuracy report and
+// the on-disk form (HDF5) that sweeps reuse.
+//
+// Frame convention (DESIGN.md, ffrf-planar.md): with frame_node = 0 (default) the big-end
+// node is fixed in the floating frame (its basis rows are zero), so the frame is the big-end
+// clamp. Elastic coordinates q have no rigid-body content relative to the frame unless the
+// method is free–free (then the basis is the free–free elastic modes, M-orthogonal to rigid
+// motion: a mean-axis-like frame) or the interface includes the frame node.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/eigen.h"
+#include "fem/rod_mesh.h"
+
+namespace flexrod::fem {
+
+enum class ReductionMethod { kCraigBampton, kOrthonormalCraigBampton, kFreeFree, kFull };
+ReductionMethod ReductionMethodFromString(const std::string& key, const std::string& value);
+const char* ToString(ReductionMethod m);
+
+struct ReductionSpec {
+  ReductionMethod method{ReductionMethod::kCraigBampton};
+  int num_modes{8};                 ///< fixed-interface (or free–free) normal modes kept, >= 0
+  double cutoff_hz{0.0};            ///< if > 0: keep all modes below this frequency instead [Hz]
+  std::vector<int> fixed_dofs;      ///< dofs fixed in the frame/support (default: all of node 0)
+  std::vector<int> interface_nodes; ///< CB interface nodes (default: the last node)
+  void Validate(const RodSpec& rod) const;
+};
+
+/// Default reduction for the mechanism: node 0 clamped in the frame, interface = last node.
+ReductionSpec MechanismReduction(const RodSpec& rod, ReductionMethod m, int num_modes);
+
+/// Planar FFRF inertia shape integrals (ffrf-planar.md, "Inertia shape integrals"), including
+/// the rigid attachments. n = number of elastic coordinates.
+struct PlanarInertia {
+  double mass{0.0};      ///< m = ∫ρ dV [kg]
+  Vec2 S0{0.0, 0.0};     ///< ∫ρ ū₀ dV [kg m]
+  Mat2X S;               ///< ∫ρ S dV, 2×n [kg]
+  double J0{0.0};        ///< ∫ρ ū₀ᵀū₀ dV [kg m²] (+ attachment own inertias)
+  Vec I1;                ///< ∫ρ Sᵀ ū₀ dV, n [kg m]
+  Vec Ibar;              ///< ∫ρ Sᵀ J ū₀ dV, n [kg m] (+ J_a S_φ,kᵀ for attachments)
+  Mat Mff;               ///< ∫ρ Sᵀ S dV, n×n [kg] (+ J_a S_φᵀS_φ, + rotary inertia if kept)
+  Mat Stilde;            ///< ∫ρ Sᵀ J S dV, n×n skew [kg]
+};
+
+/// A point fixed to the rod: undeformed position in the frame and the rows that give its
+/// displacement and rotation from q (small rotations).
+struct MarkerShape {
+  Vec2 position{0.0, 0.0};  ///< ū₀ [m]
+  Mat2X S_u;                ///< 2×n: displacement = S_u q [m]
+  RowVec S_phi;             ///< 1×n: rotation = S_phi q [rad]
+};
+
+/// A virtual strain gauge: surface strain ε = (axial + bending) q at position x, fibre y.
+struct StrainGaugeRows {
+  std::string name;
+  double x{0.0};            ///< axial position from the big-end node [m]
+  double y{0.0};            ///< fibre distance from the neutral axis, in-plane [m]
+  RowVec axial;             ///< u'(x) row [1]
+  RowVec bending;           ///< −y κ(x) row [1]
+};
+
+struct ModeReportRow {
+  int index{0};
+  double full_hz{0.0};          ///< full-FE frequency [Hz]
+  double reduced_hz{0.0};       ///< reduced-model frequency [Hz]
+  double rel_error{0.0};        ///< (reduced − full)/full [-]
+  double mac{0.0};              ///< modal assurance criterion vs the full-FE mode [-]
+  double effective_mass{0.0};   ///< in-plane transverse effective modal mass [kg]
+  bool rigid_body{false};       ///< ≈ 0 Hz mode
+};
+
+struct ReducedRod {
+  RodSpec rod;
+  ReductionSpec reduction;
+  Mat basis;                ///< Φ, num_dofs × n (rows of fixed dofs are zero)
+  Mat K;                    ///< Φᵀ K Φ, n×n
+  Mat M;                    ///< Φᵀ M Φ, n×n (equals inertia.Mff up to quadrature round-off)
+  Mat Kg;                   ///< Φᵀ K_G Φ per newton of axial tension, n×n
+  RowVec axial_force;       ///< N(q) = axial_force · q, mean axial force in the rod [N]
+  PlanarInertia inertia;
+  std::vector<MarkerShape> nodes;  ///< one per FE node
+  Vec frequencies_hz;       ///< eigenfrequencies of (K, M) [Hz], ascending
+
+  int num_coordinates() const { return static_cast<int>(K.rows()); }
+  /// A marker at node `node` offset by `offset` in the rod frame (rigidly carried by the node).
+  MarkerShape Marker(int node, const Vec2& offset) const;
+  /// Gauge rows at axial position x [m] on fibre y [m].
+  StrainGaugeRows Gauge(const std::string& name, double x, double y) const;
+};
+
+/// Builds the reduced rod. Throws InputError for inconsistent specs (more modes than dofs...).
+ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec);
+
+/// Per-mode comparison of the reduced model against the full FE model with the same fixed
+/// dofs (rigid-body modes included at ≈ 0 Hz and marked).
+std::vector<ModeReportRow> CompareWithFullModel(const ReducedRod& reduced, int num_modes);
+
+/// HDF5 round trip; the file carries every input that produced the rod.
+void WriteReducedRod(const ReducedRod& rod, const std::string& path);
+ReducedRod ReadReducedRod(const std::string& path);
+
+}  // namespace flexrod::fem

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the whole test suite (unit, reference, slow).
+# Usage: scripts/test.sh [ctest args, e.g. -L unit]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$root/scripts/build.sh"
+build="${FLEXROD_BUILD_DIR:-$root/build}"
+cd "$build"
+ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" "$@"
