@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <CLI/CLI.hpp>
+#include <gsl/gsl_errno.h>
 
 #include <iostream>
 
@@ -11,8 +12,11 @@ namespace flexrod::app {
 int Main(int argc, char** argv) {
   CLI::App app{"flexrod — flexible connecting rods in slider-crank mechanisms with a clearance joint"};
   app.require_subcommand(1);
+  gsl_set_error_handler_off();  // every GSL status is checked where it is returned
   Handler handler;
   RegisterModes(app, &handler);
+  RegisterRun(app, &handler);
+  RegisterContact(app, &handler);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -16,6 +16,8 @@ namespace flexrod::app {
 using Handler = std::function<int()>;
 
 void RegisterModes(CLI::App& app, Handler* handler);
+void RegisterRun(CLI::App& app, Handler* handler);
+void RegisterContact(CLI::App& app, Handler* handler);
 
 int Main(int argc, char** argv);
 

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `flexrod run [preset-or-file.toml] [--set key=value ...] [--out DIR]` and `flexrod keys`.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "app/commands.h"
+#include "app/plotting.h"
+#include "common/error.h"
+#include "study/presets.h"
+#include "study/run.h"
+
+namespace flexrod::app {
+namespace {
+
+struct RunOptions {
+  std::string input{"flexible-rig"};
+  std::vector<std::string> sets;
+  std::string out_dir{"out/run"};
+  bool no_plot{false};
+};
+
+Config LoadInput(const std::string& input, const std::vector<std::string>& sets) {
+  Config cfg;
+  if (const Preset* p = FindPreset(input)) {
+    cfg.LoadToml(p->toml, "preset " + input);
+  } else if (std::filesystem::exists(input)) {
+    cfg.LoadTomlFile(input);
+  } else {
+    std::string names;
+    for (const Preset& q : Presets()) names += (names.empty() ? "" : ", ") + q.name;
+    throw InputError("input", input, "is neither a preset (" + names + ") nor an existing TOML file");
+  }
+  for (const std::string& s : sets) cfg.SetAssignment(s);
+  return cfg;
+}
+
+int Run(const RunOptions& opt) {
+  const Config cfg = LoadInput(opt.input, opt.sets);
+  const RunResult run = RunSimulation(cfg);
+  WriteRunFiles(opt.out_dir, cfg, run);
+  const auto& s = run.summary;
+  std::printf("flexrod run %s -> %s\n", opt.input.c_str(), opt.out_dir.c_str());
+  std::printf("  integrator: %s, %ld steps, %ld residuals, %ld Jacobians, wall %.3f s\n",
+              multibody::ToString(run.status.outcome), run.status.stats.steps,
+              run.status.stats.residual_evaluations, run.status.stats.jacobian_evaluations,
+              run.status.wall_seconds);
+  std::printf("  samples: %zu at %.6g Hz from t = %.6g s\n", run.channels.num_samples(),
+              run.channels.sample_rate(), run.channels.start_time());
+  if (s.contains("slider_acceleration")) {
+    const auto& a = s["slider_acceleration"];
+    std::printf("  slider acceleration: peak +%.4g / -%.4g m/s^2, rms %.4g m/s^2 over %d revolutions\n",
+                a["peak_positive"].get<double>(), a["peak_negative"].get<double>(), a["rms"].get<double>(),
+                a["revolutions"].get<int>());
+  }
+  if (s.contains("rod")) {
+    std::printf("  rod: peak gauge stress %.4g MPa, safety factor against yield %s\n",
+                s["rod"]["peak_gauge_stress [Pa]"].get<double>() * 1e-6, s["rod"]["safety_factor"].dump().c_str());
+  }
+  if (s.contains("energy")) {
+    std::printf("  energy balance error: %.3g J (%.3g of peak kinetic energy)\n",
+                s["energy"]["max_balance_error [J]"].get<double>(),
+                s["energy"]["relative_balance_error"].get<double>());
+  }
+  if (!opt.no_plot && run.channels.num_samples() > 1) PlotRun(opt.out_dir);
+  if (!run.ok()) {
+    std::fprintf(stderr, "flexrod: numerical failure at t = %.9g s: %s\n  hint: %s\n  kept %zu samples in %s\n",
+                 run.status.t_reached, run.status.message.c_str(), run.status.hint.c_str(),
+                 run.channels.num_samples(), opt.out_dir.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void RegisterRun(CLI::App& app, Handler* handler) {
+  auto opt = std::make_shared<RunOptions>();
+  CLI::App* cmd = app.add_subcommand("run", "run one simulation (default: the flexible rig)");
+  cmd->add_option("input", opt->input, "preset name or TOML file (presets: flexible-rig, rigid-rig, "
+                                       "simeon-crank, flexible-pendulum)");
+  cmd->add_option("--set", opt->sets, "override a key: --set rod.height=\"25.4 mm\"")->take_all();
+  cmd->add_option("--out", opt->out_dir, "output directory")->capture_default_str();
+  cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plot");
+  cmd->callback([opt, handler] { *handler = [opt] { return Run(*opt); }; });
+
+  CLI::App* keys = app.add_subcommand("keys", "list every input key with its default and unit");
+  keys->callback([handler] {
+    *handler = [] {
+      for (const ParamDef& p : Schema()) {
+        std::printf("%-28s %-16s %s\n", p.key.c_str(), p.default_text.empty() ? "\"\"" : p.default_text.c_str(),
+                    p.doc.c_str());
+      }
+      return 0;
+    };
+  });
+}
+
+}  // namespace flexrod::app

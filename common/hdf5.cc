@@ -1,0 +1,221 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "common/hdf5.h"
+
+#include <hdf5.h>
+
+#include <stdexcept>
+
+#include "common/error.h"
+
+namespace flexrod::h5 {
+namespace {
+
+hid_t Check(hid_t id, const char* call, const std::string& what) {
+  if (id < 0) throw NumericalError(std::string("HDF5 ") + call + " failed for '" + what + "'");
+  return id;
+}
+void CheckStatus(herr_t st, const char* call, const std::string& what) {
+  if (st < 0) throw NumericalError(std::string("HDF5 ") + call + " failed for '" + what + "'");
+}
+
+struct Handle {  // closes any hid_t with the given closer
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+void SilenceErrors() {
+  static bool done = false;
+  if (!done) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    done = true;
+  }
+}
+
+}  // namespace
+
+Node& Node::operator=(Node&& o) noexcept {
+  if (this != &o) {
+    this->~Node();
+    id_ = o.id_;
+    is_file_ = o.is_file_;
+    o.id_ = -1;
+  }
+  return *this;
+}
+
+Node::~Node() {
+  if (id_ < 0) return;
+  if (is_file_) {
+    H5Fclose(id_);
+  } else {
+    H5Gclose(id_);
+  }
+  id_ = -1;
+}
+
+Node CreateFile(const std::string& path) {
+  SilenceErrors();
+  return Node(Check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "H5Fcreate", path),
+              true);
+}
+
+Node OpenFile(const std::string& path, bool writable) {
+  SilenceErrors();
+  return Node(Check(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT),
+                    "H5Fopen", path),
+              true);
+}
+
+bool Node::HasChild(const std::string& name) const {
+  return H5Lexists(id_, name.c_str(), H5P_DEFAULT) > 0;
+}
+
+Node Node::CreateGroup(const std::string& name) const {
+  return Node(Check(H5Gcreate2(id_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "H5Gcreate2",
+                    name),
+              false);
+}
+
+Node Node::OpenGroup(const std::string& name) const {
+  return Node(Check(H5Gopen2(id_, name.c_str(), H5P_DEFAULT), "H5Gopen2", name), false);
+}
+
+std::vector<std::string> Node::Children() const {
+  std::vector<std::string> names;
+  auto cb = [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+    return 0;
+  };
+  CheckStatus(H5Literate(id_, H5_INDEX_NAME, H5_ITER_INC, nullptr, cb, &names), "H5Literate",
+              "children");
+  return names;
+}
+
+void Node::WriteMatrix(const std::string& name, const Mat& m, const std::string& unit,
+                       bool compress) const {
+  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+  Handle space{Check(H5Screate_simple(2, dims, nullptr), "H5Screate_simple", name), H5Sclose};
+  Handle plist{Check(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", name), H5Pclose};
+  if (compress && m.size() > 0) {
+    hsize_t chunk[2] = {std::min<hsize_t>(dims[0], 65536), std::max<hsize_t>(dims[1], 1)};
+    chunk[0] = std::max<hsize_t>(chunk[0], 1);
+    CheckStatus(H5Pset_chunk(plist.id, 2, chunk), "H5Pset_chunk", name);
+    CheckStatus(H5Pset_deflate(plist.id, 4), "H5Pset_deflate", name);
+  }
+  Handle set{Check(H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, plist.id,
+                              H5P_DEFAULT),
+                   "H5Dcreate2", name),
+             H5Dclose};
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm = m;
+  if (m.size() > 0) {
+    CheckStatus(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rm.data()), "H5Dwrite",
+                name);
+  }
+  if (!unit.empty()) {
+    Handle ts{H5Tcopy(H5T_C_S1), H5Tclose};
+    H5Tset_size(ts.id, unit.size());
+    Handle as{H5Screate(H5S_SCALAR), H5Sclose};
+    Handle attr{Check(H5Acreate2(set.id, "unit", ts.id, as.id, H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2",
+                      name + ".unit"),
+                H5Aclose};
+    CheckStatus(H5Awrite(attr.id, ts.id, unit.c_str()), "H5Awrite", name + ".unit");
+  }
+}
+
+Mat Node::ReadMatrix(const std::string& name) const {
+  Handle set{Check(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), "H5Dopen2", name), H5Dclose};
+  Handle space{Check(H5Dget_space(set.id), "H5Dget_space", name), H5Sclose};
+  hsize_t dims[2] = {0, 1};
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank < 1 || rank > 2) throw NumericalError("HDF5 dataset '" + name + "' is not a matrix");
+  H5Sget_simple_extent_dims(space.id, dims, nullptr);
+  if (rank == 1) dims[1] = 1;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm(dims[0], dims[1]);
+  if (rm.size() > 0) {
+    CheckStatus(H5Dread(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rm.data()), "H5Dread",
+                name);
+  }
+  return rm;
+}
+
+void Node::WriteVector(const std::string& name, const Vec& v, const std::string& unit,
+                       bool compress) const {
+  const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
+  Handle space{Check(H5Screate_simple(1, dims, nullptr), "H5Screate_simple", name), H5Sclose};
+  Handle plist{Check(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", name), H5Pclose};
+  if (compress && v.size() > 0) {
+    hsize_t chunk[1] = {std::min<hsize_t>(dims[0], 65536)};
+    CheckStatus(H5Pset_chunk(plist.id, 1, chunk), "H5Pset_chunk", name);
+    CheckStatus(H5Pset_deflate(plist.id, 4), "H5Pset_deflate", name);
+  }
+  Handle set{Check(H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, plist.id,
+                              H5P_DEFAULT),
+                   "H5Dcreate2", name),
+             H5Dclose};
+  if (v.size() > 0) {
+    CheckStatus(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "H5Dwrite",
+                name);
+  }
+  if (!unit.empty()) {
+    Handle ts{H5Tcopy(H5T_C_S1), H5Tclose};
+    H5Tset_size(ts.id, unit.size());
+    Handle as{H5Screate(H5S_SCALAR), H5Sclose};
+    Handle attr{Check(H5Acreate2(set.id, "unit", ts.id, as.id, H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2",
+                      name + ".unit"),
+                H5Aclose};
+    CheckStatus(H5Awrite(attr.id, ts.id, unit.c_str()), "H5Awrite", name + ".unit");
+  }
+}
+
+Vec Node::ReadVector(const std::string& name) const {
+  const Mat m = ReadMatrix(name);
+  return Eigen::Map<const Vec>(m.data(), m.size());
+}
+
+void Node::SetAttr(const std::string& name, double value, const std::string& unit) const {
+  Handle as{H5Screate(H5S_SCALAR), H5Sclose};
+  if (H5Aexists(id_, name.c_str()) > 0) H5Adelete(id_, name.c_str());
+  Handle attr{Check(H5Acreate2(id_, name.c_str(), H5T_IEEE_F64LE, as.id, H5P_DEFAULT, H5P_DEFAULT),
+                    "H5Acreate2", name),
+              H5Aclose};
+  CheckStatus(H5Awrite(attr.id, H5T_NATIVE_DOUBLE, &value), "H5Awrite", name);
+  if (!unit.empty()) SetAttr(name + ".unit", unit);
+}
+
+void Node::SetAttr(const std::string& name, const std::string& value) const {
+  Handle ts{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(ts.id, std::max<size_t>(value.size(), 1));
+  Handle as{H5Screate(H5S_SCALAR), H5Sclose};
+  if (H5Aexists(id_, name.c_str()) > 0) H5Adelete(id_, name.c_str());
+  Handle attr{Check(H5Acreate2(id_, name.c_str(), ts.id, as.id, H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2",
+                    name),
+              H5Aclose};
+  const std::string padded = value.empty() ? std::string(1, '\0') : value;
+  CheckStatus(H5Awrite(attr.id, ts.id, padded.c_str()), "H5Awrite", name);
+}
+
+bool Node::HasAttr(const std::string& name) const { return H5Aexists(id_, name.c_str()) > 0; }
+
+double Node::GetDouble(const std::string& name) const {
+  Handle attr{Check(H5Aopen(id_, name.c_str(), H5P_DEFAULT), "H5Aopen", name), H5Aclose};
+  double v = 0.0;
+  CheckStatus(H5Aread(attr.id, H5T_NATIVE_DOUBLE, &v), "H5Aread", name);
+  return v;
+}
+
+std::string Node::GetString(const std::string& name) const {
+  Handle attr{Check(H5Aopen(id_, name.c_str(), H5P_DEFAULT), "H5Aopen", name), H5Aclose};
+  Handle type{Check(H5Aget_type(attr.id), "H5Aget_type", name), H5Tclose};
+  const size_t size = H5Tget_size(type.id);
+  std::string s(size, '\0');
+  Handle mem{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(mem.id, size);
+  CheckStatus(H5Aread(attr.id, mem.id, s.data()), "H5Aread", name);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+}  // namespace flexrod::h5

@@ -1,0 +1,55 @@
+// common/hdf5.h — a thin RAII layer over the HDF5 C API: files, groups, dense matrices and
+// scalar/string attributes, every call checked. Matrices are stored row-major with their
+// shape, so h5py reads them as numpy arrays of the same shape. Attributes carry units via a
+// sibling attribute "<name>.unit" when given. What does not live here: what is stored.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/eigen.h"
+
+namespace flexrod::h5 {
+
+/// An open HDF5 object id (file or group) closed on destruction. Movable only.
+class Node {
+ public:
+  Node() = default;
+  Node(long long id, bool is_file) : id_(id), is_file_(is_file) {}
+  Node(Node&& o) noexcept : id_(o.id_), is_file_(o.is_file_) { o.id_ = -1; }
+  Node& operator=(Node&& o) noexcept;
+  Node(const Node&) = delete;
+  Node& operator=(const Node&) = delete;
+  ~Node();
+  long long id() const { return id_; }
+
+  bool HasChild(const std::string& name) const;
+  Node CreateGroup(const std::string& name) const;
+  Node OpenGroup(const std::string& name) const;
+  std::vector<std::string> Children() const;
+
+  void WriteMatrix(const std::string& name, const Mat& m, const std::string& unit = "",
+                   bool compress = false) const;
+  Mat ReadMatrix(const std::string& name) const;
+  void WriteVector(const std::string& name, const Vec& v, const std::string& unit = "",
+                   bool compress = false) const;
+  Vec ReadVector(const std::string& name) const;
+
+  void SetAttr(const std::string& name, double value, const std::string& unit = "") const;
+  void SetAttr(const std::string& name, const std::string& value) const;
+  double GetDouble(const std::string& name) const;
+  std::string GetString(const std::string& name) const;
+  bool HasAttr(const std::string& name) const;
+
+ private:
+  long long id_{-1};
+  bool is_file_{false};
+};
+
+/// Creates (truncates) a file.
+Node CreateFile(const std::string& path);
+/// Opens an existing file read-only, or read-write.
+Node OpenFile(const std::string& path, bool writable = false);
+
+}  // namespace flexrod::h5

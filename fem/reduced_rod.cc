@@ -1,0 +1,581 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Craig–Bampton reduction: Craig & Bampton, AIAA J. 6 (1968) 1313–1319. Basis
+//   Φ = [ I 0 ; Ψ Φ_k ] on (interface, interior) dofs, Ψ = −K_II⁻¹ K_IB (static constraint
+//   modes), Φ_k the k lowest fixed-interface modes of (K_II, M_II).
+#include "fem/reduced_rod.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "common/error.h"
+#include "common/hdf5.h"
+#include "fem/eigensolver.h"
+#include "fem/sparse_solver.h"
+
+namespace flexrod::fem {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+/// Eigenvalues below this fraction of the largest kept one count as rigid-body modes.
+constexpr double kRigidModeRelTol = 1e-8;
+/// Above this many interior dofs ARPACK is used for the fixed-interface modes.
+constexpr int kDenseEigenLimit = 600;
+
+/// Gauss–Legendre 4-point rule on [0, 1]: exact for polynomials of degree 7, i.e. for the
+/// products of two cubic Hermite interpolants (ffrf-planar.md).
+constexpr double kGaussX[4] = {0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563,
+                               0.5 + 0.5 * 0.3399810435848563, 0.5 + 0.5 * 0.8611363115940526};
+constexpr double kGaussW[4] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
+                               0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
+
+Mat2 Jrot() {
+  Mat2 J;
+  J << 0.0, -1.0, 1.0, 0.0;
+  return J;
+}
+
+EigenResult LowestModes(const SpMat& K, const SpMat& M, int count, double cutoff_hz) {
+  const int n = static_cast<int>(K.rows());
+  if (cutoff_hz > 0.0) {
+    EigenRequest req;
+    req.min_hz = 0.0;
+    req.max_hz = cutoff_hz;
+    if (n <= kDenseEigenLimit) {
+      EigenResult all = SolveEigenDense(Mat(K), Mat(M));
+      const Vec f = all.frequencies_hz();
+      int k = 0;
+      while (k < f.size() && f[k] <= cutoff_hz) ++k;
+      EigenResult r;
+      r.eigenvalues = all.eigenvalues.head(k);
+      r.eigenvectors = all.eigenvectors.leftCols(k);
+      r.num_converged = k;
+      return r;
+    }
+    return SolveEigenArpack(K, M, req);
+  }
+  if (count == 0) {
+    EigenResult r;
+    r.eigenvalues.resize(0);
+    r.eigenvectors.resize(n, 0);
+    return r;
+  }
+  if (n <= kDenseEigenLimit) return SolveEigenDense(Mat(K), Mat(M), count);
+  EigenRequest req;
+  req.num_modes = count;
+  return SolveEigenArpack(K, M, req);
+}
+
+/// Selection matrix columns: dense sub-block extraction of a sparse matrix.
+SpMat SubMatrix(const SpMat& A, const std::vector<int>& rows, const std::vector<int>& cols) {
+  std::vector<int> rmap(A.rows(), -1), cmap(A.cols(), -1);
+  for (size_t i = 0; i < rows.size(); ++i) rmap[rows[i]] = static_cast<int>(i);
+  for (size_t j = 0; j < cols.size(); ++j) cmap[cols[j]] = static_cast<int>(j);
+  std::vector<Triplet> t;
+  for (int c = 0; c < A.outerSize(); ++c) {
+    if (cmap[c] < 0) continue;
+    for (SpMat::InnerIterator it(A, c); it; ++it) {
+      if (rmap[it.row()] >= 0) t.emplace_back(rmap[it.row()], cmap[c], it.value());
+    }
+  }
+  SpMat S(rows.size(), cols.size());
+  S.setFromTriplets(t.begin(), t.end());
+  return S;
+}
+
+/// Dense generalised eigen-decomposition of a small reduced pair, ascending.
+EigenResult SmallEigen(const Mat& K, const Mat& M) { return SolveEigenDense(K, M); }
+
+Vec ToHz(const Vec& eigenvalues) {
+  Vec f(eigenvalues.size());
+  for (int i = 0; i < f.size(); ++i) f[i] = std::sqrt(std::max(eigenvalues[i], 0.0)) / kTwoPi;
+  return f;
+}
+
+/// Indices of rigid-body (near-zero) eigenvalues.
+int CountRigid(const Vec& eigenvalues) {
+  if (eigenvalues.size() == 0) return 0;
+  const double scale = eigenvalues.cwiseAbs().maxCoeff();
+  int r = 0;
+  for (int i = 0; i < eigenvalues.size(); ++i) {
+    if (std::abs(eigenvalues[i]) <= kRigidModeRelTol * scale) ++r;
+  }
+  return r;
+}
+
+/// Element dof indices of a planar element.
+std::array<int, 6> PlanarElementDofs(int e) {
+  return {3 * e, 3 * e + 1, 3 * e + 2, 3 * e + 3, 3 * e + 4, 3 * e + 5};
+}
+
+/// Node shape rows of a planar rod: rows (u, v) and φ of the basis at every node.
+std::vector<MarkerShape> PlanarNodeShapes(const RodSpec& rod, const Mat& basis) {
+  std::vector<MarkerShape> nodes(rod.num_nodes());
+  for (int i = 0; i < rod.num_nodes(); ++i) {
+    MarkerShape& m = nodes[i];
+    m.position = Vec2(rod.node_x(i), 0.0);
+    m.S_u = basis.middleRows(3 * i, 2);
+    m.S_phi = basis.row(3 * i + 2);
+  }
+  return nodes;
+}
+
+PlanarInertia ComputePlanarInertia(const RodSpec& rod, const Mat& basis,
+                                   const std::vector<MarkerShape>& nodes) {
+  const int n = static_cast<int>(basis.cols());
+  const double rhoA = rod.material.density * rod.section.area();
+  // Rotary inertia (fibres at y move axially by −yψ) is kept for Timoshenko, whose consistent
+  // mass contains it; Euler–Bernoulli uses the thin-beam approximation, matching its mass.
+  const double rhoI = rod.theory == BeamTheory::kTimoshenko
+                          ? rod.material.density * rod.section.inertia_in_plane()
+                          : 0.0;
+  const double le = rod.element_length();
+  PlanarInertia in;
+  in.S = Mat2X::Zero(2, n);
+  in.I1 = Vec::Zero(n);
+  in.Ibar = Vec::Zero(n);
+  in.Mff = Mat::Zero(n, n);
+  in.Stilde = Mat::Zero(n, n);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> phi_e(6, n);
+  RowVec Nu(n), Nv(n), Npsi(n);
+  for (int e = 0; e < rod.num_elements; ++e) {
+    const auto dofs = PlanarElementDofs(e);
+    for (int i = 0; i < 6; ++i) phi_e.row(i) = basis.row(dofs[i]);
+    const double x0 = rod.node_x(e);
+    for (int g = 0; g < 4; ++g) {
+      const PlanarShape sh = PlanarFrameShape(rod.section, rod.material, le, rod.theory, kGaussX[g]);
+      const double w = kGaussW[g] * le;
+      const double x = x0 + kGaussX[g] * le;
+      Nu.noalias() = sh.N.row(0) * phi_e;
+      Nv.noalias() = sh.N.row(1) * phi_e;
+      Npsi.noalias() = sh.N.row(2) * phi_e;
+      in.mass += rhoA * w;
+      in.S0.x() += rhoA * x * w;
+      in.S.row(0) += rhoA * w * Nu;
+      in.S.row(1) += rhoA * w * Nv;
+      in.J0 += (rhoA * x * x + rhoI) * w;
+      in.I1 += (rhoA * x * w) * Nu.transpose();
+      in.Ibar += w * (rhoI * Npsi.transpose() + rhoA * x * Nv.transpose());
+      in.Mff.noalias() += w * (rhoA * (Nu.transpose() * Nu + Nv.transpose() * Nv) +
+                               rhoI * Npsi.transpose() * Npsi);
+      in.Stilde.noalias() += (rhoA * w) * (Nv.transpose() * Nu - Nu.transpose() * Nv);
+    }
+  }
+  // Rigid attachments as point masses plus their own rotational inertia (ffrf-planar.md).
+  const Mat2 J = Jrot();
+  for (const RigidAttachment& a : rod.attachments) {
+    const MarkerShape& k = nodes[a.node];
+    const Vec2 u0 = k.position + a.com_offset;
+    const Mat2X Sa = k.S_u + J * a.com_offset * k.S_phi;
+    in.mass += a.mass;
+    in.S0 += a.mass * u0;
+    in.S += a.mass * Sa;
+    in.J0 += a.mass * u0.squaredNorm() + a.inertia;
+    in.I1 += a.mass * Sa.transpose() * u0;
+    in.Ibar += a.mass * Sa.transpose() * (J * u0) + a.inertia * k.S_phi.transpose();
+    in.Mff += a.mass * Sa.transpose() * Sa + a.inertia * k.S_phi.transpose() * k.S_phi;
+    in.Stilde += a.mass * Sa.transpose() * J * Sa;
+  }
+  in.Mff = 0.5 * (in.Mff + in.Mff.transpose());
+  in.Stilde = 0.5 * (in.Stilde - in.Stilde.transpose());
+  return in;
+}
+
+}  // namespace
+
+ReductionMethod ReductionMethodFromString(const std::string& key, const std::string& value) {
+  if (value == "craig-bampton") return ReductionMethod::kCraigBampton;
+  if (value == "orthonormal-cb") return ReductionMethod::kOrthonormalCraigBampton;
+  if (value == "free-free") return ReductionMethod::kFreeFree;
+  if (value == "full") return ReductionMethod::kFull;
+  throw InputError(key, value, "must be one of craig-bampton, orthonormal-cb, free-free, full");
+}
+
+const char* ToString(ReductionMethod m) {
+  switch (m) {
+    case ReductionMethod::kCraigBampton: return "craig-bampton";
+    case ReductionMethod::kOrthonormalCraigBampton: return "orthonormal-cb";
+    case ReductionMethod::kFreeFree: return "free-free";
+    case ReductionMethod::kFull: return "full";
+  }
+  return "?";
+}
+
+void ReductionSpec::Validate(const RodSpec& rod) const {
+  Require(num_modes >= 0, "reduction.modes", num_modes, "must be >= 0");
+  RequireNonNegative("reduction.cutoff", cutoff_hz);
+  const int ndof = rod.num_dofs();
+  for (int d : fixed_dofs) Require(d >= 0 && d < ndof, "reduction.fixed_dofs", d, "dof out of range");
+  for (int k : interface_nodes) {
+    Require(k >= 0 && k < rod.num_nodes(), "reduction.interface", k,
+            "node out of range 0.." + std::to_string(rod.num_nodes() - 1));
+  }
+  if (method == ReductionMethod::kCraigBampton || method == ReductionMethod::kOrthonormalCraigBampton) {
+    Require(!interface_nodes.empty(), "reduction.interface", 0.0, "Craig–Bampton needs interface nodes");
+  }
+}
+
+ReductionSpec MechanismReduction(const RodSpec& rod, ReductionMethod m, int num_modes) {
+  ReductionSpec s;
+  s.method = m;
+  s.num_modes = num_modes;
+  const int dpn = rod.dofs_per_node();
+  if (m != ReductionMethod::kFreeFree) {
+    for (int d = 0; d < dpn; ++d) s.fixed_dofs.push_back(d);  // big-end node fixed in the frame
+  }
+  s.interface_nodes = {rod.num_nodes() - 1};
+  return s;
+}
+
+MarkerShape ReducedRod::Marker(int node, const Vec2& offset) const {
+  if (node < 0 || node >= static_cast<int>(nodes.size())) {
+    throw InputError("marker.node", std::to_string(node), "must be an FE node of the rod");
+  }
+  const MarkerShape& k = nodes[node];
+  MarkerShape m;
+  m.position = k.position + offset;
+  m.S_u = k.S_u + Jrot() * offset * k.S_phi;
+  m.S_phi = k.S_phi;
+  return m;
+}
+
+StrainGaugeRows ReducedRod::Gauge(const std::string& name, double x, double y) const {
+  if (!(x >= 0.0 && x <= rod.length)) {
+    throw InputError("gauge." + name + ".x", FormatValue(x), "must lie on the rod, 0 <= x <= length");
+  }
+  if (rod.dim != MeshDim::kPlanar) throw InputError("gauge", name, "strain gauges need a planar rod");
+  const double le = rod.element_length();
+  const int e = std::min(static_cast<int>(x / le), rod.num_elements - 1);
+  const double xi = (x - rod.node_x(e)) / le;
+  const PlanarShape sh = PlanarFrameShape(rod.section, rod.material, le, rod.theory, xi);
+  const int n = num_coordinates();
+  Eigen::Matrix<double, 6, Eigen::Dynamic> phi_e(6, n);
+  const auto dofs = PlanarElementDofs(e);
+  for (int i = 0; i < 6; ++i) phi_e.row(i) = basis.row(dofs[i]);
+  StrainGaugeRows g;
+  g.name = name;
+  g.x = x;
+  g.y = y;
+  g.axial = sh.B.row(0) * phi_e;
+  g.bending = -y * (sh.B.row(1) * phi_e);
+  return g;
+}
+
+ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
+  rod.Validate();
+  spec.Validate(rod);
+  const AssembledRod A = AssembleRod(rod);
+  const int ndof = rod.num_dofs();
+  const int dpn = rod.dofs_per_node();
+
+  std::set<int> fixed(spec.fixed_dofs.begin(), spec.fixed_dofs.end());
+  const std::vector<int> free = FreeDofs(ndof, spec.fixed_dofs);
+  const int nfree = static_cast<int>(free.size());
+
+  ReducedRod out;
+  out.rod = rod;
+  out.reduction = spec;
+  Mat& basis = out.basis;
+
+  switch (spec.method) {
+    case ReductionMethod::kFull: {
+      basis = Mat::Zero(ndof, nfree);
+      for (int j = 0; j < nfree; ++j) basis(free[j], j) = 1.0;
+      break;
+    }
+    case ReductionMethod::kFreeFree: {
+      const SpMat Kf = Restrict(A.K, free), Mf = Restrict(A.M, free);
+      const int rigid_expected = fixed.empty() ? (dpn == 3 ? 3 : 6) : 0;
+      const int want = spec.cutoff_hz > 0.0 ? 0 : spec.num_modes + rigid_expected;
+      Require(spec.cutoff_hz > 0.0 || want <= nfree, "reduction.modes", spec.num_modes,
+              "more modes than free dofs (" + std::to_string(nfree - rigid_expected) + ")");
+      EigenResult er;
+      if (spec.cutoff_hz > 0.0) {
+        er = LowestModes(Kf, Mf, 0, spec.cutoff_hz);
+      } else {
+        EigenRequest req;
+        req.num_modes = want;
+        er = nfree <= kDenseEigenLimit ? SolveEigenDense(Mat(Kf), Mat(Mf), want)
+                                       : SolveEigenArpack(Kf, Mf, req);
+      }
+      const int rigid = CountRigid(er.eigenvalues);
+      const int keep = static_cast<int>(er.eigenvalues.size()) - rigid;
+      basis = Mat::Zero(ndof, keep);
+      for (int j = 0; j < nfree; ++j) basis.row(free[j]) = er.eigenvectors.row(j).segment(rigid, keep);
+      break;
+    }
+    case ReductionMethod::kCraigBampton:
+    case ReductionMethod::kOrthonormalCraigBampton: {
+      std::vector<int> boundary, interior;
+      std::set<int> bset;
+      for (int k : spec.interface_nodes) {
+        for (int d = 0; d < dpn; ++d) {
+          if (!fixed.count(k * dpn + d)) bset.insert(k * dpn + d);
+        }
+      }
+      boundary.assign(bset.begin(), bset.end());
+      for (int d : free) {
+        if (!bset.count(d)) interior.push_back(d);
+      }
+      const int nb = static_cast<int>(boundary.size());
+      const int ni = static_cast<int>(interior.size());
+      Require(spec.cutoff_hz > 0.0 || spec.num_modes <= ni, "reduction.modes", spec.num_modes,
+              "more modes than interior dofs (" + std::to_string(ni) + ")");
+      const SpMat Kii = SubMatrix(A.K, interior, interior);
+      const SpMat Mii = SubMatrix(A.M, interior, interior);
+      const SpMat Kib = SubMatrix(A.K, interior, boundary);
+      Mat Psi(ni, nb);
+      if (ni > 0 && nb > 0) {
+        auto chol = MakeSparseSolver(SparseSolverKind::kCholmod);
+        chol->Factorize(Kii);
+        chol->Solve(Mat(-(Kib * Mat::Identity(nb, nb))), &Psi);
+      }
+      EigenResult fixed_interface;
+      if (ni > 0) fixed_interface = LowestModes(Kii, Mii, spec.num_modes, spec.cutoff_hz);
+      const int k = ni > 0 ? static_cast<int>(fixed_interface.eigenvalues.size()) : 0;
+      basis = Mat::Zero(ndof, nb + k);
+      for (int i = 0; i < nb; ++i) basis(boundary[i], i) = 1.0;
+      for (int i = 0; i < ni; ++i) {
+        basis.row(interior[i]).head(nb) = Psi.row(i);
+        if (k > 0) basis.row(interior[i]).tail(k) = fixed_interface.eigenvectors.row(i);
+      }
+      if (spec.method == ReductionMethod::kOrthonormalCraigBampton) {
+        // Diagonalise the reduced pair; the basis becomes M-orthonormal with K diagonal. When
+        // the frame carries rigid-body motion (no dofs fixed), rigid-body modes are dropped.
+        const Mat Kr = basis.transpose() * (A.K * basis);
+        const Mat Mr = basis.transpose() * (A.M * basis);
+        const EigenResult er = SmallEigen(0.5 * (Kr + Kr.transpose()), 0.5 * (Mr + Mr.transpose()));
+        const int rigid = fixed.empty() ? CountRigid(er.eigenvalues) : 0;
+        basis = basis * er.eigenvectors.rightCols(er.eigenvalues.size() - rigid);
+      }
+      break;
+    }
+  }
+
+  out.K = basis.transpose() * (A.K * basis);
+  out.M = basis.transpose() * (A.M * basis);
+  out.K = 0.5 * (out.K + out.K.transpose());
+  out.M = 0.5 * (out.M + out.M.transpose());
+  const int n = static_cast<int>(basis.cols());
+  if (A.Kg.rows() == ndof) {
+    out.Kg = basis.transpose() * (A.Kg * basis);
+    out.Kg = 0.5 * (out.Kg + out.Kg.transpose());
+  } else {
+    out.Kg = Mat::Zero(n, n);
+  }
+  out.frequencies_hz = n > 0 ? ToHz(SmallEigen(out.K, out.M).eigenvalues) : Vec();
+
+  if (rod.dim == MeshDim::kPlanar) {
+    out.nodes = PlanarNodeShapes(rod, basis);
+    out.inertia = ComputePlanarInertia(rod, basis, out.nodes);
+    const double EA_over_L = rod.material.youngs_modulus * rod.section.area() / rod.length;
+    out.axial_force = EA_over_L * (basis.row(3 * rod.num_elements) - basis.row(0));
+  } else {
+    out.axial_force = RowVec::Zero(n);
+  }
+  return out;
+}
+
+std::vector<ModeReportRow> CompareWithFullModel(const ReducedRod& reduced, int num_modes) {
+  const RodSpec& rod = reduced.rod;
+  const AssembledRod A = AssembleRod(rod);
+  const std::vector<int> free = FreeDofs(rod.num_dofs(), reduced.reduction.fixed_dofs);
+  const SpMat Kf = Restrict(A.K, free), Mf = Restrict(A.M, free);
+  const int nfree = static_cast<int>(free.size());
+  num_modes = std::min(num_modes, nfree);
+  Require(num_modes >= 1, "modes", num_modes, "must be >= 1");
+  EigenResult full;
+  if (nfree <= kDenseEigenLimit || num_modes >= nfree - 1) {
+    full = SolveEigenDense(Mat(Kf), Mat(Mf), num_modes);
+  } else {
+    EigenRequest req;
+    req.num_modes = num_modes;
+    full = SolveEigenArpack(Kf, Mf, req);
+  }
+  const Vec full_hz = ToHz(full.eigenvalues);
+  const int n_full_rigid = CountRigid(full.eigenvalues);
+
+  const int n = reduced.num_coordinates();
+  EigenResult red;
+  if (n > 0) red = SmallEigen(reduced.K, reduced.M);
+  const Vec red_hz = n > 0 ? ToHz(red.eigenvalues) : Vec();
+  const int n_red_rigid = n > 0 ? CountRigid(red.eigenvalues) : 0;
+  // The reduced model may drop rigid-body modes the frame carries; align elastic modes.
+  const int shift = n_full_rigid - n_red_rigid;
+
+  // In-plane transverse rigid translation of every node (the v dof), for effective mass.
+  const int dpn = rod.dofs_per_node();
+  Vec r = Vec::Zero(nfree);
+  for (int j = 0; j < nfree; ++j) r[j] = (free[j] % dpn == 1) ? 1.0 : 0.0;
+  const Vec Mr = Mf * r;
+
+  std::vector<ModeReportRow> rows;
+  for (int i = 0; i < num_modes; ++i) {
+    ModeReportRow row;
+    row.index = i + 1;
+    row.full_hz = full_hz[i];
+    row.rigid_body = i < n_full_rigid;
+    const Vec phi_f = full.eigenvectors.col(i);
+    const double gamma = phi_f.dot(Mr);
+    row.effective_mass = gamma * gamma / phi_f.dot(Mf * phi_f);
+    const int j = row.rigid_body ? (i < n_red_rigid ? i : -1) : i - shift;
+    if (j >= 0 && j < n) {
+      row.reduced_hz = red_hz[j];
+      Vec phi_r_full = reduced.basis * red.eigenvectors.col(j);
+      Vec phi_r(nfree);
+      for (int k = 0; k < nfree; ++k) phi_r[k] = phi_r_full[free[k]];
+      const double c = phi_f.dot(phi_r);
+      row.mac = c * c / (phi_f.squaredNorm() * phi_r.squaredNorm());
+      row.rel_error = row.rigid_body || row.full_hz == 0.0 ? 0.0 : (row.reduced_hz - row.full_hz) / row.full_hz;
+    } else if (row.rigid_body) {
+      row.reduced_hz = 0.0;  // carried by the floating frame
+      row.mac = 1.0;
+    } else {
+      row.reduced_hz = std::nan("");
+      row.mac = std::nan("");
+      row.rel_error = std::nan("");
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// ---- HDF5 round trip --------------------------------------------------------------------
+namespace {
+
+void WriteRodSpec(const h5::Node& g, const RodSpec& rod) {
+  g.SetAttr("material.name", rod.material.name);
+  g.SetAttr("material.source", rod.material.source);
+  g.SetAttr("material.E", rod.material.youngs_modulus, "Pa");
+  g.SetAttr("material.nu", rod.material.poisson_ratio, "1");
+  g.SetAttr("material.rho", rod.material.density, "kg/m^3");
+  g.SetAttr("material.yield", rod.material.yield_strength, "Pa");
+  g.SetAttr("rod.thickness", rod.section.thickness, "m");
+  g.SetAttr("rod.height", rod.section.height, "m");
+  g.SetAttr("rod.bending", ToString(rod.section.in_plane));
+  g.SetAttr("rod.length", rod.length, "m");
+  g.SetAttr("rod.elements", rod.num_elements, "1");
+  g.SetAttr("rod.element", rod.theory == BeamTheory::kTimoshenko ? "timoshenko" : "euler-bernoulli");
+  g.SetAttr("rod.mass", rod.mass_kind == MassKind::kLumped ? "lumped" : "consistent");
+  g.SetAttr("rod.dim", rod.dim == MeshDim::kSpatial ? "spatial" : "planar");
+  g.SetAttr("rod.attachments", static_cast<double>(rod.attachments.size()), "1");
+  for (size_t i = 0; i < rod.attachments.size(); ++i) {
+    const RigidAttachment& a = rod.attachments[i];
+    const std::string p = "attachment" + std::to_string(i) + ".";
+    g.SetAttr(p + "name", a.name);
+    g.SetAttr(p + "node", a.node, "1");
+    g.SetAttr(p + "mass", a.mass, "kg");
+    g.SetAttr(p + "inertia", a.inertia, "kg*m^2");
+    g.SetAttr(p + "com_x", a.com_offset.x(), "m");
+    g.SetAttr(p + "com_y", a.com_offset.y(), "m");
+  }
+}
+
+RodSpec ReadRodSpec(const h5::Node& g) {
+  RodSpec rod;
+  rod.material.name = g.GetString("material.name");
+  rod.material.source = g.GetString("material.source");
+  rod.material.youngs_modulus = g.GetDouble("material.E");
+  rod.material.poisson_ratio = g.GetDouble("material.nu");
+  rod.material.density = g.GetDouble("material.rho");
+  rod.material.yield_strength = g.GetDouble("material.yield");
+  rod.section.thickness = g.GetDouble("rod.thickness");
+  rod.section.height = g.GetDouble("rod.height");
+  rod.section.in_plane = BendingAxisFromString("rod.bending", g.GetString("rod.bending"));
+  rod.length = g.GetDouble("rod.length");
+  rod.num_elements = static_cast<int>(g.GetDouble("rod.elements"));
+  rod.theory = g.GetString("rod.element") == "timoshenko" ? BeamTheory::kTimoshenko : BeamTheory::kEulerBernoulli;
+  rod.mass_kind = g.GetString("rod.mass") == "lumped" ? MassKind::kLumped : MassKind::kConsistent;
+  rod.dim = g.GetString("rod.dim") == "spatial" ? MeshDim::kSpatial : MeshDim::kPlanar;
+  const int na = static_cast<int>(g.GetDouble("rod.attachments"));
+  for (int i = 0; i < na; ++i) {
+    const std::string p = "attachment" + std::to_string(i) + ".";
+    RigidAttachment a;
+    a.name = g.GetString(p + "name");
+    a.node = static_cast<int>(g.GetDouble(p + "node"));
+    a.mass = g.GetDouble(p + "mass");
+    a.inertia = g.GetDouble(p + "inertia");
+    a.com_offset = Vec2(g.GetDouble(p + "com_x"), g.GetDouble(p + "com_y"));
+    rod.attachments.push_back(a);
+  }
+  return rod;
+}
+
+Vec IntsToVec(const std::vector<int>& v) {
+  Vec out(v.size());
+  for (size_t i = 0; i < v.size(); ++i) out[i] = v[i];
+  return out;
+}
+std::vector<int> VecToInts(const Vec& v) {
+  std::vector<int> out(v.size());
+  for (int i = 0; i < v.size(); ++i) out[i] = static_cast<int>(std::lround(v[i]));
+  return out;
+}
+
+}  // namespace
+
+void WriteReducedRod(const ReducedRod& rr, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    h5::Node f = h5::CreateFile(tmp);
+    f.SetAttr("format", "flexrod reduced rod v1");
+    WriteRodSpec(f, rr.rod);
+    f.SetAttr("reduction.method", ToString(rr.reduction.method));
+    f.SetAttr("reduction.modes", rr.reduction.num_modes, "1");
+    f.SetAttr("reduction.cutoff", rr.reduction.cutoff_hz, "Hz");
+    f.WriteVector("fixed_dofs", IntsToVec(rr.reduction.fixed_dofs), "1");
+    f.WriteVector("interface_nodes", IntsToVec(rr.reduction.interface_nodes), "1");
+    f.WriteMatrix("basis", rr.basis, "1", true);
+    f.WriteMatrix("K", rr.K, "N/m (generalised)");
+    f.WriteMatrix("M", rr.M, "kg (generalised)");
+    f.WriteMatrix("Kg", rr.Kg, "1/m per N of axial tension (generalised)");
+    f.WriteVector("axial_force", rr.axial_force.transpose(), "N per unit q");
+    f.WriteVector("frequencies", rr.frequencies_hz, "Hz");
+    const h5::Node in = f.CreateGroup("inertia");
+    in.SetAttr("mass", rr.inertia.mass, "kg");
+    in.SetAttr("J0", rr.inertia.J0, "kg*m^2");
+    in.WriteVector("S0", rr.inertia.S0, "kg*m");
+    in.WriteMatrix("S", rr.inertia.S, "kg");
+    in.WriteVector("I1", rr.inertia.I1, "kg*m");
+    in.WriteVector("Ibar", rr.inertia.Ibar, "kg*m");
+    in.WriteMatrix("Mff", rr.inertia.Mff, "kg");
+    in.WriteMatrix("Stilde", rr.inertia.Stilde, "kg");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    throw NumericalError("could not rename " + tmp + " to " + path);
+  }
+}
+
+ReducedRod ReadReducedRod(const std::string& path) {
+  const h5::Node f = h5::OpenFile(path);
+  if (!f.HasAttr("format") || f.GetString("format") != "flexrod reduced rod v1") {
+    throw InputError("reduced rod file", path, "is not a flexrod reduced rod (format v1)");
+  }
+  ReducedRod rr;
+  rr.rod = ReadRodSpec(f);
+  rr.reduction.method = ReductionMethodFromString("reduction.method", f.GetString("reduction.method"));
+  rr.reduction.num_modes = static_cast<int>(f.GetDouble("reduction.modes"));
+  rr.reduction.cutoff_hz = f.GetDouble("reduction.cutoff");
+  rr.reduction.fixed_dofs = VecToInts(f.ReadVector("fixed_dofs"));
+  rr.reduction.interface_nodes = VecToInts(f.ReadVector("interface_nodes"));
+  rr.basis = f.ReadMatrix("basis");
+  rr.K = f.ReadMatrix("K");
+  rr.M = f.ReadMatrix("M");
+  rr.Kg = f.ReadMatrix("Kg");
+  rr.axial_force = f.ReadVector("axial_force").transpose();
+  rr.frequencies_hz = f.ReadVector("frequencies");
+  const h5::Node in = f.OpenGroup("inertia");
+  rr.inertia.mass = in.GetDouble("mass");
+  rr.inertia.J0 = in.GetDouble("J0");
+  rr.inertia.S0 = in.ReadVector("S0");
+  rr.inertia.S = in.ReadMatrix("S");
+  rr.inertia.I1 = in.ReadVector("I1");
+  rr.inertia.Ibar = in.ReadVector("Ibar");
+  rr.inertia.Mff = in.ReadMatrix("Mff");
+  rr.inertia.Stilde = in.ReadMatrix("Stilde");
+  if (rr.rod.dim == MeshDim::kPlanar) rr.nodes = PlanarNodeShapes(rr.rod, rr.basis);
+  return rr;
+}
+
+}  // namespace flexrod::fem

@@ -1,0 +1,520 @@
+// multibody/ida_integrator.cc — RAII wrapper over SUNDIALS IDA 6.4. The only file that calls
+// IDA, NVECTOR, SUNMATRIX and SUNLINSOL functions.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "multibody/ida_integrator.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <algorithm>
+
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+namespace flexrod::multibody {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Step-size stand-in [s] for the algebraic error weights before IDA has chosen its first step.
+constexpr double kFirstStepAlgebraicScale = 1e-9;
+
+double Seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+void CheckFlag(int flag, const char* call) {
+  if (flag < 0) {
+    throw NumericalError(std::string(call) + " failed with " + IdaFlagName(flag) + " (" +
+                         std::to_string(flag) + ")");
+  }
+}
+
+template <typename T>
+T* CheckPointer(T* ptr, const char* call) {
+  if (ptr == nullptr) throw NumericalError(std::string(call) + " returned NULL");
+  return ptr;
+}
+
+// ---- a linear solver that times its wrapped solver's setup (factorisation) and solve ---------
+struct TimedContent {
+  SUNLinearSolver inner{nullptr};
+  double* seconds{nullptr};
+};
+
+TimedContent* Content(SUNLinearSolver S) { return static_cast<TimedContent*>(S->content); }
+
+SUNLinearSolver_Type TimedGetType(SUNLinearSolver S) {
+  return SUNLinSolGetType(Content(S)->inner);
+}
+SUNLinearSolver_ID TimedGetId(SUNLinearSolver S) { return SUNLinSolGetID(Content(S)->inner); }
+int TimedInitialize(SUNLinearSolver S) { return SUNLinSolInitialize(Content(S)->inner); }
+int TimedSetup(SUNLinearSolver S, SUNMatrix A) {
+  const auto t0 = Clock::now();
+  const int rc = SUNLinSolSetup(Content(S)->inner, A);
+  *Content(S)->seconds += Seconds(t0, Clock::now());
+  return rc;
+}
+int TimedSolve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, realtype tol) {
+  const auto t0 = Clock::now();
+  const int rc = SUNLinSolSolve(Content(S)->inner, A, x, b, tol);
+  *Content(S)->seconds += Seconds(t0, Clock::now());
+  return rc;
+}
+sunindextype TimedLastFlag(SUNLinearSolver S) { return SUNLinSolLastFlag(Content(S)->inner); }
+int TimedSpace(SUNLinearSolver S, long* lrw, long* liw) {
+  return SUNLinSolSpace(Content(S)->inner, lrw, liw);
+}
+int TimedFree(SUNLinearSolver S) {
+  if (S == nullptr) return 0;
+  TimedContent* c = Content(S);
+  if (c != nullptr) {
+    SUNLinSolFree(c->inner);
+    delete c;
+    S->content = nullptr;
+  }
+  SUNLinSolFreeEmpty(S);
+  return 0;
+}
+
+SUNLinearSolver MakeTimedSolver(SUNLinearSolver inner, double* seconds, SUNContext ctx) {
+  SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
+  if (S == nullptr) {
+    SUNLinSolFree(inner);
+    throw NumericalError("SUNLinSolNewEmpty returned NULL");
+  }
+  S->content = new TimedContent{inner, seconds};
+  S->ops->gettype = TimedGetType;
+  S->ops->getid = TimedGetId;
+  S->ops->initialize = TimedInitialize;
+  S->ops->setup = TimedSetup;
+  S->ops->solve = TimedSolve;
+  S->ops->lastflag = TimedLastFlag;
+  S->ops->space = TimedSpace;
+  S->ops->free = TimedFree;
+  return S;
+}
+
+}  // namespace
+
+// ---- DaeSystem defaults ----------------------------------------------------------------------------
+void DaeSystem::AbsoluteToleranceScales(double* scales) const {
+  for (int i = 0; i < size(); ++i) scales[i] = 1.0;
+}
+
+SparsityPattern DaeSystem::JacobianPattern() const {
+  SparsityPattern p;
+  const int n = size();
+  p.size = n;
+  p.col_ptr.resize(n + 1);
+  p.row_index.reserve(static_cast<size_t>(n) * n);
+  for (int c = 0; c <= n; ++c) p.col_ptr[c] = static_cast<int64_t>(c) * n;
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < n; ++r) p.row_index.push_back(r);
+  return p;
+}
+
+const char* ToString(LinearSolverKind kind) {
+  switch (kind) {
+    case LinearSolverKind::kAuto: return "auto";
+    case LinearSolverKind::kDense: return "dense";
+    case LinearSolverKind::kKlu: return "klu";
+  }
+  return "?";
+}
+
+void IntegratorOptions::Validate() const {
+  Require(rel_tol > 0.0 && rel_tol < 1.0, "integrator.rel_tol", rel_tol, "must be in (0, 1)");
+  RequirePositive("integrator.abs_tol", abs_tol);
+  RequireNonNegative("integrator.max_step", max_step);
+  RequireNonNegative("integrator.initial_step", initial_step);
+  Require(max_order >= 1 && max_order <= 5, "integrator.max_order", max_order, "must be 1..5");
+  Require(max_nonlinear_iterations >= 1, "integrator.max_nonlinear_iterations",
+          max_nonlinear_iterations, "must be >= 1");
+  Require(max_convergence_failures >= 1, "integrator.max_convergence_failures",
+          max_convergence_failures, "must be >= 1");
+  Require(max_error_test_failures >= 1, "integrator.max_error_test_failures",
+          max_error_test_failures, "must be >= 1");
+  Require(klu_threshold >= 1, "integrator.klu_threshold", klu_threshold, "must be >= 1");
+}
+
+std::string IdaFlagName(int flag) {
+  char* name = IDAGetReturnFlagName(flag);
+  std::string out = name != nullptr ? name : "IDA flag " + std::to_string(flag);
+  std::free(name);
+  return out;
+}
+
+std::string IdaFailureHint(int flag) {
+  switch (flag) {
+    case IDA_TOO_MUCH_ACC:
+      return "the requested accuracy is beyond machine precision: loosen rel_tol / abs_tol";
+    case IDA_ERR_FAIL:
+      return "repeated error-test failures: tighten tolerances or reduce max_step; look for a "
+             "discontinuity no event catches, or an inconsistent restart";
+    case IDA_CONV_FAIL:
+      return "Newton iterations do not converge: reduce max_step or tighten tolerances; check "
+             "the Jacobian";
+    case IDA_LINIT_FAIL:
+    case IDA_LSETUP_FAIL:
+    case IDA_LSOLVE_FAIL:
+      return "linear solver failure: the iteration matrix is singular";
+    case IDA_RES_FAIL:
+    case IDA_REP_RES_ERR:
+      return "the residual keeps failing (recoverable errors or non-finite values)";
+    case IDA_TOO_MUCH_WORK:
+      return "too many steps: raise the step budget or loosen tolerances";
+    default:
+      return "tighten tolerances / reduce max_step / check the model inputs";
+  }
+}
+
+// ---- Impl: IDA objects and C callbacks ---------------------------------------------------------------
+struct IdaIntegrator::Impl {
+  DaeSystem* system{nullptr};
+  int n{0};
+  SUNContext ctx{nullptr};
+  void* mem{nullptr};
+  N_Vector y{nullptr}, yp{nullptr}, id{nullptr}, atol{nullptr}, tmp{nullptr}, tmp2{nullptr};
+  SUNMatrix A{nullptr};
+  SUNLinearSolver LS{nullptr};
+  bool sparse{false};
+  SparsityPattern pattern;
+  std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
+  double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
+  std::exception_ptr pending;
+  std::string* last_message{nullptr};
+  double rel_tol{0.0};
+  double initial_step{0.0};
+  bool scale_algebraic{false};
+  IntegratorStats base;  // counters accumulated before the last IDAReInit
+  long roots{0}, reinits{0};
+
+  ~Impl() {
+    if (mem != nullptr) IDAFree(&mem);
+    if (LS != nullptr) SUNLinSolFree(LS);
+    if (A != nullptr) SUNMatDestroy(A);
+    for (N_Vector* v : {&y, &yp, &id, &atol, &tmp, &tmp2}) {
+      if (*v != nullptr) N_VDestroy(*v);
+    }
+    if (ctx != nullptr) SUNContext_Free(&ctx);
+  }
+
+  IntegratorStats Current() const {
+    IntegratorStats s;
+    if (mem == nullptr) return s;
+    long v = 0;
+    if (IDAGetNumSteps(mem, &v) == IDA_SUCCESS) s.steps = v;
+    if (IDAGetNumResEvals(mem, &v) == IDA_SUCCESS) s.residual_evaluations = v;
+    if (IDAGetNumJacEvals(mem, &v) == IDA_SUCCESS) s.jacobian_evaluations = v;
+    if (IDAGetNumNonlinSolvIters(mem, &v) == IDA_SUCCESS) s.nonlinear_iterations = v;
+    if (IDAGetNumNonlinSolvConvFails(mem, &v) == IDA_SUCCESS) s.nonlinear_convergence_failures = v;
+    if (IDAGetNumErrTestFails(mem, &v) == IDA_SUCCESS) s.error_test_failures = v;
+    int order = 0;
+    if (IDAGetLastOrder(mem, &order) == IDA_SUCCESS) s.last_order = order;
+    realtype h = 0.0;
+    if (IDAGetLastStep(mem, &h) == IDA_SUCCESS) s.last_step = h;
+    return s;
+  }
+};
+
+extern "C" {
+
+static int IdaResidual(realtype t, N_Vector y, N_Vector yp, N_Vector r, void* user) {
+  auto* impl = static_cast<IdaIntegrator::Impl*>(user);
+  try {
+    const auto t0 = Clock::now();
+    const int rc = impl->system->Residual(t, NV_DATA_S(y), NV_DATA_S(yp), NV_DATA_S(r));
+    impl->residual_seconds += Seconds(t0, Clock::now());
+    return rc;
+  } catch (...) {
+    impl->pending = std::current_exception();
+    return -1;
+  }
+}
+
+static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vector /*r*/,
+                       SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
+  auto* impl = static_cast<IdaIntegrator::Impl*>(user);
+  try {
+    const auto t0 = Clock::now();
+    const int n = impl->n;
+    int rc = 0;
+    if (!impl->sparse) {
+      SUNMatZero(J);
+      rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), SM_DATA_D(J));
+    } else {
+      // The system writes a dense column-major Jacobian; gather it into the fixed CSC
+      // pattern, clearing the scratch as we go, then verify nothing was left outside.
+      double* D = impl->dense_scratch.data();
+      rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), D);
+      const SparsityPattern& p = impl->pattern;
+      sunindextype* colptr = SM_INDEXPTRS_S(J);
+      sunindextype* rowind = SM_INDEXVALS_S(J);
+      realtype* val = SM_DATA_S(J);
+      for (int c = 0; c <= n; ++c) colptr[c] = p.col_ptr[c];
+      for (int64_t c = 0; c < n; ++c) {
+        double* col = D + c * n;
+        for (int64_t k = p.col_ptr[c]; k < p.col_ptr[c + 1]; ++k) {
+          const int64_t r = p.row_index[k];
+          rowind[k] = r;
+          val[k] = col[r];
+          col[r] = 0.0;
+        }
+      }
+      const size_t total = static_cast<size_t>(n) * n;
+      for (size_t i = 0; i < total; ++i) {
+        if (D[i] != 0.0) {
+          const int64_t c = static_cast<int64_t>(i / n), r = static_cast<int64_t>(i % n);
+          std::fill(impl->dense_scratch.begin(), impl->dense_scratch.end(), 0.0);
+          throw NumericalError("Jacobian entry (" + std::to_string(r) + ", " + std::to_string(c) +
+                               ") lies outside the sparsity pattern (model bug)");
+        }
+      }
+    }
+    impl->jacobian_seconds += Seconds(t0, Clock::now());
+    return rc;
+  } catch (...) {
+    impl->pending = std::current_exception();
+    return -1;
+  }
+}
+
+static int IdaRoots(realtype t, N_Vector y, N_Vector yp, realtype* g, void* user) {
+  auto* impl = static_cast<IdaIntegrator::Impl*>(user);
+  try {
+    return impl->system->Roots(t, NV_DATA_S(y), NV_DATA_S(yp), g);
+  } catch (...) {
+    impl->pending = std::current_exception();
+    return -1;
+  }
+}
+
+// ewt_i = 1/(rtol |y_i| + atol_i), times h for algebraic unknowns (see IntegratorOptions).
+static int IdaErrorWeights(N_Vector y, N_Vector ewt, void* user) {
+  auto* impl = static_cast<IdaIntegrator::Impl*>(user);
+  const double* yv = NV_DATA_S(y);
+  const double* atol = NV_DATA_S(impl->atol);
+  const double* id = NV_DATA_S(impl->id);
+  double* w = NV_DATA_S(ewt);
+  double alg = 1.0;
+  if (impl->scale_algebraic) {
+    // IDA sets the weights of the first step before it chooses h0 (the current step is
+    // still 0 then): use the requested initial step, or a small scale that leaves the
+    // Newton test to the differential unknowns until the first step is taken.
+    double h = 0.0;
+    if (IDAGetCurrentStep(impl->mem, &h) != IDA_SUCCESS) h = 0.0;
+    h = std::abs(h);
+    if (!(h > 0.0)) h = impl->initial_step > 0.0 ? impl->initial_step : kFirstStepAlgebraicScale;
+    alg = std::min(h, 1.0);
+  }
+  for (int i = 0; i < impl->n; ++i) {
+    const double d = impl->rel_tol * std::abs(yv[i]) + atol[i];
+    if (!(d > 0.0) || !std::isfinite(d)) return -1;
+    w[i] = (id[i] == 0.0 ? alg : 1.0) / d;
+  }
+  return 0;
+}
+
+static void IdaErrorHandler(int error_code, const char* module, const char* function, char* msg,
+                            void* user) {
+  auto* impl = static_cast<IdaIntegrator::Impl*>(user);
+  if (impl == nullptr || impl->last_message == nullptr) return;
+  *impl->last_message = std::string(module ? module : "IDA") + "::" +
+                        (function ? function : "?") + " (" + std::to_string(error_code) +
+                        "): " + (msg ? msg : "");
+}
+
+}  // extern "C"
+
+// ---- IdaIntegrator ---------------------------------------------------------------------------------
+IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options)
+    : impl_(std::make_unique<Impl>()), system_(system), options_(options) {
+  FLEXROD_ASSERT(system != nullptr);
+  options_.Validate();
+  impl_->system = system;
+  impl_->n = system->size();
+  impl_->last_message = &last_message_;
+  if (impl_->n <= 0) throw NumericalError("IdaIntegrator: the DAE has no unknowns");
+  switch (options_.linear_solver) {
+    case LinearSolverKind::kAuto:
+      solver_kind_ =
+          impl_->n >= options_.klu_threshold ? LinearSolverKind::kKlu : LinearSolverKind::kDense;
+      break;
+    default: solver_kind_ = options_.linear_solver;
+  }
+}
+
+IdaIntegrator::~IdaIntegrator() = default;
+
+void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
+  Impl& I = *impl_;
+  const int n = I.n;
+  if (initialized_) {
+    const IntegratorStats cur = I.Current();
+    I.base.steps += cur.steps;
+    I.base.residual_evaluations += cur.residual_evaluations;
+    I.base.jacobian_evaluations += cur.jacobian_evaluations;
+    I.base.nonlinear_iterations += cur.nonlinear_iterations;
+    I.base.nonlinear_convergence_failures += cur.nonlinear_convergence_failures;
+    I.base.error_test_failures += cur.error_test_failures;
+    std::memcpy(NV_DATA_S(I.y), y0, sizeof(double) * n);
+    std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
+    CheckFlag(IDAReInit(I.mem, t0, I.y, I.yp), "IDAReInit");
+    ++I.reinits;
+    return;
+  }
+  CheckFlag(SUNContext_Create(nullptr, &I.ctx), "SUNContext_Create");
+  I.y = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  I.yp = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  I.id = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  I.atol = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  I.tmp = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  I.tmp2 = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  std::memcpy(NV_DATA_S(I.y), y0, sizeof(double) * n);
+  std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
+  system_->DifferentialMask(NV_DATA_S(I.id));
+  system_->AbsoluteToleranceScales(NV_DATA_S(I.atol));
+  for (int i = 0; i < n; ++i) NV_DATA_S(I.atol)[i] *= options_.abs_tol;
+
+  I.mem = CheckPointer(IDACreate(I.ctx), "IDACreate");
+  CheckFlag(IDASetErrHandlerFn(I.mem, IdaErrorHandler, &I), "IDASetErrHandlerFn");
+  CheckFlag(IDAInit(I.mem, IdaResidual, t0, I.y, I.yp), "IDAInit");
+  CheckFlag(IDASetUserData(I.mem, &I), "IDASetUserData");
+  I.rel_tol = options_.rel_tol;
+  I.scale_algebraic = options_.scale_algebraic_weights_by_step;
+  I.initial_step = options_.initial_step;
+  CheckFlag(IDAWFtolerances(I.mem, IdaErrorWeights), "IDAWFtolerances");
+  CheckFlag(IDASetId(I.mem, I.id), "IDASetId");
+  CheckFlag(IDASetSuppressAlg(I.mem, options_.suppress_algebraic ? SUNTRUE : SUNFALSE),
+            "IDASetSuppressAlg");
+  CheckFlag(IDASetMaxOrd(I.mem, options_.max_order), "IDASetMaxOrd");
+  if (options_.max_step > 0.0) CheckFlag(IDASetMaxStep(I.mem, options_.max_step), "IDASetMaxStep");
+  if (options_.initial_step > 0.0) {
+    CheckFlag(IDASetInitStep(I.mem, options_.initial_step), "IDASetInitStep");
+  }
+  CheckFlag(IDASetMaxNonlinIters(I.mem, options_.max_nonlinear_iterations),
+            "IDASetMaxNonlinIters");
+  CheckFlag(IDASetMaxConvFails(I.mem, options_.max_convergence_failures), "IDASetMaxConvFails");
+  CheckFlag(IDASetMaxErrTestFails(I.mem, options_.max_error_test_failures),
+            "IDASetMaxErrTestFails");
+
+  SUNLinearSolver inner = nullptr;
+  if (solver_kind_ == LinearSolverKind::kKlu) {
+    I.sparse = true;
+    I.pattern = system_->JacobianPattern();
+    if (I.pattern.size != n || static_cast<int>(I.pattern.col_ptr.size()) != n + 1) {
+      throw NumericalError("IdaIntegrator: the Jacobian pattern does not match the DAE size");
+    }
+    I.dense_scratch.assign(static_cast<size_t>(n) * n, 0.0);
+    I.A = CheckPointer(SUNSparseMatrix(n, n, I.pattern.nnz(), CSC_MAT, I.ctx), "SUNSparseMatrix");
+    inner = CheckPointer(SUNLinSol_KLU(I.y, I.A, I.ctx), "SUNLinSol_KLU");
+  } else {
+    I.A = CheckPointer(SUNDenseMatrix(n, n, I.ctx), "SUNDenseMatrix");
+    inner = CheckPointer(SUNLinSol_Dense(I.y, I.A, I.ctx), "SUNLinSol_Dense");
+  }
+  I.LS = MakeTimedSolver(inner, &I.linear_seconds, I.ctx);
+  CheckFlag(IDASetLinearSolver(I.mem, I.LS, I.A), "IDASetLinearSolver");
+  CheckFlag(IDASetJacFn(I.mem, IdaJacobian), "IDASetJacFn");
+  const int nr = system_->num_roots();
+  if (nr > 0) {
+    CheckFlag(IDARootInit(I.mem, nr, IdaRoots), "IDARootInit");
+    CheckFlag(IDASetNoInactiveRootWarn(I.mem), "IDASetNoInactiveRootWarn");
+  }
+  initialized_ = true;
+}
+
+void IdaIntegrator::SetStopTime(double t_stop) {
+  FLEXROD_ASSERT(initialized_);
+  CheckFlag(IDASetStopTime(impl_->mem, t_stop), "IDASetStopTime");
+}
+
+StepResult IdaIntegrator::Step(double tout) {
+  FLEXROD_ASSERT(initialized_);
+  Impl& I = *impl_;
+  realtype tret = 0.0;
+  const int flag = IDASolve(I.mem, tout, &tret, I.y, I.yp, IDA_ONE_STEP);
+  if (I.pending) {
+    std::exception_ptr e = I.pending;
+    I.pending = nullptr;
+    std::rethrow_exception(e);
+  }
+  StepResult out;
+  out.t = tret;
+  switch (flag) {
+    case IDA_SUCCESS: out.outcome = StepOutcome::kStep; return out;
+    case IDA_ROOT_RETURN:
+      out.outcome = StepOutcome::kRoot;
+      ++I.roots;
+      return out;
+    case IDA_TSTOP_RETURN: out.outcome = StepOutcome::kStopTime; return out;
+    default: break;
+  }
+  const std::string name = IdaFlagName(flag);
+  throw IntegratorFailure("IDASolve failed at t = " + FormatValue(tret) + " s with " + name +
+                              (last_message_.empty() ? "" : ": " + last_message_),
+                          flag, name, tret);
+}
+
+void IdaIntegrator::DenseOutput(double t, int k, double* out) {
+  FLEXROD_ASSERT(initialized_);
+  CheckFlag(IDAGetDky(impl_->mem, t, k, impl_->tmp), "IDAGetDky");
+  std::memcpy(out, NV_DATA_S(impl_->tmp), sizeof(double) * impl_->n);
+}
+
+const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }
+const double* IdaIntegrator::yp() const { return NV_DATA_S(impl_->yp); }
+
+void IdaIntegrator::RootInfo(int* roots_found) {
+  CheckFlag(IDAGetRootInfo(impl_->mem, roots_found), "IDAGetRootInfo");
+}
+
+void IdaIntegrator::WorstLocalError(int* index, double* weighted_error) {
+  *index = -1;
+  *weighted_error = 0.0;
+  if (!initialized_) return;
+  if (IDAGetErrWeights(impl_->mem, impl_->tmp) != IDA_SUCCESS) return;
+  if (IDAGetEstLocalErrors(impl_->mem, impl_->tmp2) != IDA_SUCCESS) return;
+  const double* w = NV_DATA_S(impl_->tmp);
+  const double* e = NV_DATA_S(impl_->tmp2);
+  for (int i = 0; i < impl_->n; ++i) {
+    const double we = std::abs(w[i] * e[i]);
+    if (we > *weighted_error) {
+      *weighted_error = we;
+      *index = i;
+    }
+  }
+}
+
+double IdaIntegrator::current_time() const {
+  realtype t = 0.0;
+  if (initialized_) CheckFlag(IDAGetCurrentTime(impl_->mem, &t), "IDAGetCurrentTime");
+  return t;
+}
+
+IntegratorStats IdaIntegrator::stats() const {
+  const Impl& I = *impl_;
+  IntegratorStats s = I.Current();
+  s.steps += I.base.steps;
+  s.residual_evaluations += I.base.residual_evaluations;
+  s.jacobian_evaluations += I.base.jacobian_evaluations;
+  s.nonlinear_iterations += I.base.nonlinear_iterations;
+  s.nonlinear_convergence_failures += I.base.nonlinear_convergence_failures;
+  s.error_test_failures += I.base.error_test_failures;
+  s.roots_found = I.roots;
+  s.reinitialisations = I.reinits;
+  s.residual_seconds = I.residual_seconds;
+  s.jacobian_seconds = I.jacobian_seconds;
+  s.linear_solve_seconds = I.linear_seconds;
+  return s;
+}
+
+}  // namespace flexrod::multibody

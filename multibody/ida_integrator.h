@@ -1,0 +1,167 @@
+// multibody/ida_integrator.h — a thin RAII wrapper over SUNDIALS IDA (6.4) for a generic
+// DAE F(t, y, ẏ) = 0: context, serial vectors, dense or KLU linear solver, analytic
+// Jacobian, root finding, one-step integration with dense output (IDAGetDky), re-initialisation
+// after events, statistics and time spent in residual / Jacobian / linear solver. Every IDA
+// call is checked; a failing flag throws NumericalError naming the call and the flag. The
+// wrapper knows nothing about mechanisms: it sees only DaeSystem. No other file calls IDA.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+
+namespace flexrod::multibody {
+
+/// Compressed-sparse-column pattern of an N×N matrix.
+struct SparsityPattern {
+  int64_t size{0};                  ///< N
+  std::vector<int64_t> col_ptr;     ///< N + 1 entries
+  std::vector<int64_t> row_index;   ///< nnz entries, ascending within each column
+  int64_t nnz() const { return static_cast<int64_t>(row_index.size()); }
+};
+
+/// A DAE F(t, y, ẏ) = 0 of fixed size. Callback return codes: 0 success, > 0 recoverable
+/// (IDA retries with a smaller step), < 0 unrecoverable. Exceptions thrown by callbacks are
+/// caught, reported to IDA as unrecoverable, and rethrown from IdaIntegrator::Step.
+class DaeSystem {
+ public:
+  virtual ~DaeSystem() = default;
+  virtual int size() const = 0;
+  virtual int num_roots() const { return 0; }
+  /// id[i] = 1 for a differential unknown, 0 for an algebraic one.
+  virtual void DifferentialMask(double* id) const = 0;
+  /// Per-unknown multiplier of the absolute tolerance (default 1).
+  virtual void AbsoluteToleranceScales(double* scales) const;
+  virtual int Residual(double t, const double* y, const double* yp, double* r) = 0;
+  /// Adds dF/dy + cj dF/dẏ into the zeroed column-major N×N array jac.
+  virtual int Jacobian(double t, double cj, const double* y, const double* yp, double* jac) = 0;
+  /// Non-zero pattern of the Jacobian (used by the sparse solver only). Default: dense.
+  virtual SparsityPattern JacobianPattern() const;
+  virtual int Roots(double /*t*/, const double* /*y*/, const double* /*yp*/, double* /*g*/) {
+    return 0;
+  }
+};
+
+enum class LinearSolverKind { kAuto, kDense, kKlu };
+const char* ToString(LinearSolverKind kind);
+
+/// kAuto selects KLU from this many unknowns on (dense LU below). Measured with
+/// bench_mb_rigid_crank-style systems: dense LU wins clearly below ~100 unknowns (small,
+/// block-dense Jacobians); KLU wins for full-FE rods (arrow-head bodies, hundreds of
+/// unknowns).
+inline constexpr int kKluThreshold = 150;
+
+struct IntegratorOptions {
+  double rel_tol{1e-6};        ///< relative tolerance [-], in (0, 1)
+  double abs_tol{1e-8};        ///< absolute tolerance (scaled per unknown by the system) [SI]
+  double max_step{0.0};        ///< maximum step [s]; 0 = unlimited
+  double initial_step{0.0};    ///< first step [s]; 0 = IDA's estimate
+  int max_order{5};            ///< BDF order 1..5
+  int max_nonlinear_iterations{4};   ///< Newton iterations per step (IDA default 4)
+  int max_convergence_failures{10};  ///< per step (IDA default 10)
+  int max_error_test_failures{10};   ///< per step (IDA default 10)
+  LinearSolverKind linear_solver{LinearSolverKind::kAuto};
+  int klu_threshold{kKluThreshold};  ///< kAuto: KLU from this many unknowns on
+  bool suppress_algebraic{true};     ///< exclude algebraic unknowns from the error test
+  /// Multiply the error weights of algebraic unknowns by the step size h. Their Newton
+  /// corrections carry round-off noise that grows like 1/h for index-2 multipliers (GGL λ,
+  /// μ), which otherwise stalls the Newton convergence test at small steps; RADAU5 scales
+  /// index-2 components by h in the same way (Hairer & Wanner, Solving ODEs II, 2nd ed.,
+  /// §VII.8). Implemented through IDAWFtolerances. Affects only the Newton test when
+  /// suppress_algebraic is set.
+  bool scale_algebraic_weights_by_step{true};
+  /// Throws InputError naming integrator.<field>.
+  void Validate() const;
+};
+
+struct IntegratorStats {
+  long steps{0};
+  long residual_evaluations{0};
+  long jacobian_evaluations{0};
+  long nonlinear_iterations{0};
+  long nonlinear_convergence_failures{0};
+  long error_test_failures{0};
+  long roots_found{0};
+  long reinitialisations{0};
+  int last_order{0};
+  double last_step{0.0};              ///< [s]
+  double residual_seconds{0.0};       ///< wall time inside the residual [s]
+  double jacobian_seconds{0.0};       ///< wall time inside the Jacobian (incl. sparse gather) [s]
+  double linear_solve_seconds{0.0};   ///< wall time in linear-solver setup (factor) + solve [s]
+};
+
+/// IDASolve gave up (error-test or convergence failures, too much accuracy requested, a
+/// callback failed unrecoverably ...). Carries the IDA flag, its name and the time reached.
+class IntegratorFailure : public NumericalError {
+ public:
+  IntegratorFailure(const std::string& what, int flag, std::string flag_name, double t)
+      : NumericalError(what), flag_(flag), flag_name_(std::move(flag_name)), t_(t) {}
+  int flag() const { return flag_; }
+  const std::string& flag_name() const { return flag_name_; }
+  double time() const { return t_; }
+
+ private:
+  int flag_;
+  std::string flag_name_;
+  double t_;
+};
+
+enum class StepOutcome { kStep, kRoot, kStopTime };
+struct StepResult {
+  StepOutcome outcome{StepOutcome::kStep};
+  double t{0.0};   ///< time returned by IDA (the root time for kRoot)
+};
+
+/// Name of an IDA return flag ("IDA_ERR_FAIL", ...).
+std::string IdaFlagName(int flag);
+/// What to try after IDASolve failed with this flag (generic DAE advice).
+std::string IdaFailureHint(int flag);
+
+class IdaIntegrator {
+ public:
+  /// The system must outlive the integrator.
+  IdaIntegrator(DaeSystem* system, const IntegratorOptions& options);
+  ~IdaIntegrator();
+  IdaIntegrator(const IdaIntegrator&) = delete;
+  IdaIntegrator& operator=(const IdaIntegrator&) = delete;
+
+  /// First call: IDAInit and all set-up; later calls: IDAReInit (BDF history restarts at
+  /// order 1; statistics keep accumulating). (y0, yp0) should be consistent.
+  void Initialize(double t0, const double* y0, const double* yp0);
+  void SetStopTime(double t_stop);
+  /// One internal step (IDA_ONE_STEP) towards tout; returns a step, a located root or the
+  /// stop time. Throws IntegratorFailure if IDA gives up, NumericalError on misuse.
+  StepResult Step(double tout);
+  /// Dense output: k = 0 state, k = 1 derivative, at t within the last step.
+  void DenseOutput(double t, int k, double* out);
+  /// State and derivative returned by the last Step.
+  const double* y() const;
+  const double* yp() const;
+  /// For the last kRoot: rootsfound[i] ∈ {−1, 0, +1} (num_roots entries).
+  void RootInfo(int* roots_found);
+  /// Index of the unknown with the largest weighted local error estimate, and that value.
+  void WorstLocalError(int* index, double* weighted_error);
+  double current_time() const;
+  IntegratorStats stats() const;
+  LinearSolverKind linear_solver() const { return solver_kind_; }
+  /// The last message IDA reported (errors and warnings), empty if none.
+  const std::string& last_message() const { return last_message_; }
+
+  // Internal (C callbacks).
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  DaeSystem* system_;
+  IntegratorOptions options_;
+  LinearSolverKind solver_kind_{LinearSolverKind::kDense};
+  std::string last_message_;
+  bool initialized_{false};
+};
+
+}  // namespace flexrod::multibody

@@ -1,0 +1,367 @@
+// multibody/mechanism.h — the immutable planar mechanism model and its builder: bodies
+// (rigid, and flexible with floating frame of reference from a fem::ReducedRod), markers,
+// joints (revolute, prismatic, weld, ground), drivers (constant speed, speed profile, DC
+// motor), force elements and gravity; plus the layout of the DAE unknowns
+// y = [p; v; λ; μ; z]. The builder validates every input and the topology; Build() freezes.
+// What does not live here: the residual/Jacobian (multibody/dae.h), the per-run workspace
+// (multibody/run_data.h), the integrator (multibody/ida_integrator.h, simulate.h).
+//
+// Coordinates (ffrf-planar.md): each body b owns p_b = [x, y, θ, q_0 … q_{n−1}] — frame
+// origin R = (x, y) in the world [m], frame angle θ [rad], elastic coordinates q (n = 0 for
+// a rigid body). v_b = ṗ_b. Rigid bodies are the n = 0 case of the flexible-body equations
+// (m, S0 = m c, J0 = I_c + m|c|²), one code path.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/eigen.h"
+#include "fem/reduced_rod.h"
+#include "multibody/force_element.h"
+
+namespace flexrod::multibody {
+
+// ---- typed indices --------------------------------------------------------------------------
+struct BodyId {
+  int index{-1};  ///< −1 is the ground
+  bool is_ground() const { return index < 0; }
+  friend bool operator==(BodyId a, BodyId b) { return a.index == b.index; }
+};
+inline constexpr BodyId kGround{-1};
+struct MarkerId {
+  int index{-1};
+  friend bool operator==(MarkerId a, MarkerId b) { return a.index == b.index; }
+};
+struct JointId {
+  int index{-1};
+};
+struct DriverId {
+  int index{-1};
+};
+struct ElementId {
+  int index{-1};
+};
+
+/// Slots of a body's coordinates: p_b[kX], p_b[kY], p_b[kTheta], p_b[kFirstMode + k] = q_k.
+enum BodySlot : int { kX = 0, kY = 1, kTheta = 2, kFirstMode = 3 };
+
+// ---- damping of the elastic coordinates ----------------------------------------------------
+/// Frequency-band damping defaults (commercial FE convention, DESIGN.md): ζ = 1 % below
+/// 100 Hz, 10 % below 1 kHz, critical (100 %) above.
+inline constexpr double kBandLowLimitHz = 100.0;
+inline constexpr double kBandHighLimitHz = 1000.0;
+inline constexpr double kBandLowRatio = 0.01;
+inline constexpr double kBandMidRatio = 0.10;
+inline constexpr double kBandHighRatio = 1.0;
+
+enum class DampingKind { kNone, kModalRatio, kFrequencyBand, kRayleigh };
+
+/// Elastic damping D (n×n) in Q_e = −K q − D q̇. Modal kinds solve K φ = ω² M_ff φ once at
+/// build time and set D = M_ff Φ diag(2 ζ_i ω_i) Φᵀ M_ff (Φ M_ff-normalised); Rayleigh sets
+/// D = α M_ff + β K.
+struct DampingSpec {
+  DampingKind kind{DampingKind::kNone};
+  std::vector<double> modal_ratios;          ///< ζ_i per mode [-], >= 0; one value = all modes
+  double band_low_limit_hz{kBandLowLimitHz};    ///< [Hz]
+  double band_high_limit_hz{kBandHighLimitHz};  ///< [Hz], > band_low_limit_hz
+  double band_low_ratio{kBandLowRatio};         ///< ζ below band_low_limit_hz [-]
+  double band_mid_ratio{kBandMidRatio};         ///< ζ between the limits [-]
+  double band_high_ratio{kBandHighRatio};       ///< ζ above band_high_limit_hz [-]
+  double rayleigh_alpha{0.0};                   ///< α [1/s], >= 0
+  double rayleigh_beta{0.0};                    ///< β [s], >= 0
+
+  static DampingSpec None() { return {}; }
+  static DampingSpec ModalRatio(std::vector<double> ratios);
+  static DampingSpec FrequencyBand();
+  static DampingSpec Rayleigh(double alpha, double beta);
+  /// Throws InputError naming key.<field>.
+  void Validate(const std::string& key, int num_modes) const;
+};
+
+// ---- specs (user input, validated by the builder) -----------------------------------------
+struct RigidBodySpec {
+  std::string name;
+  double mass{0.0};          ///< [kg], > 0
+  double inertia{0.0};       ///< rotational inertia about the centre of mass [kg m^2], >= 0
+  Vec2 com{0.0, 0.0};        ///< centre of mass in the body frame [m]
+};
+
+struct FlexibleBodySpec {
+  std::string name;
+  std::shared_ptr<const fem::ReducedRod> rod;  ///< reduced rod (shared, immutable), non-null
+  DampingSpec damping;
+  /// First-order geometric stiffening: K_eff(q) = K + N(q) K_g with N(q) = axial_force · q
+  /// (mean axial force of the reduced rod). A first-order correction, not a nonlinear-
+  /// geometry model; its force −N(q) K_g q is not conservative, so its work is book-kept
+  /// separately in the energy balance (Quadrature::kStiffeningWork).
+  bool geometric_stiffening{false};
+};
+
+struct PrismaticSpec {
+  std::string name;
+  MarkerId marker_i;            ///< the guide (axis fixed in this marker's frame)
+  MarkerId marker_j;            ///< the slider
+  Vec2 axis{1.0, 0.0};          ///< sliding direction in marker i's frame (normalised)
+  double relative_angle{0.0};   ///< held value of φ_j − φ_i [rad]
+  double damping{0.0};          ///< viscous damping along the axis [N s/m], >= 0
+  double friction_force{0.0};   ///< Coulomb friction force F_c [N], >= 0
+  double friction_regularisation_speed{1e-3};  ///< s_reg in F_c tanh(s/s_reg) [m/s], > 0
+};
+
+struct DcMotorSpec {
+  double stall_torque{0.0};     ///< motor torque at zero speed [N m], > 0
+  double no_load_speed{0.0};    ///< motor speed at zero torque [rad/s], > 0
+  double ratio{1.0};            ///< belt ratio: motor speed / body speed [-], > 0
+  double flywheel_inertia{0.0}; ///< inertia on the driven body's axis [kg m^2], >= 0
+  double rotor_inertia{0.0};    ///< motor rotor inertia, reflected as ratio² J [kg m^2], >= 0
+  void Validate(const std::string& key) const;
+};
+
+/// Piecewise-linear speed table ω(t) (constant beyond the ends), integrated exactly.
+struct SpeedProfile {
+  std::vector<double> times;    ///< [s], strictly increasing, >= 2 entries
+  std::vector<double> speeds;   ///< [rad/s], same length
+  std::vector<double> cumulative;  ///< ∫_{t_0}^{t_k} ω ds at each knot [rad] (set by the builder)
+  double Speed(double t) const;         ///< ω(t) [rad/s]
+  double Acceleration(double t) const;  ///< dω/dt (right limit at knots) [rad/s^2]
+  double Integral(double t) const;      ///< ∫_0^t ω ds [rad]
+};
+
+// ---- frozen model data ---------------------------------------------------------------------
+struct Body {
+  std::string name;
+  bool flexible{false};
+  int coordinate_offset{0};  ///< index of x in p
+  int num_modes{0};          ///< n
+  // FFRF inertia shape integrals (ffrf-planar.md); rigid: n = 0.
+  double mass{0.0};          ///< m [kg]
+  Vec2 S0{0.0, 0.0};         ///< ∫ρ ū₀ [kg m]
+  Mat2X Sbar;                ///< ∫ρ S, 2×n [kg]
+  double J0{0.0};            ///< ∫ρ ū₀ᵀū₀ about the frame origin, + driver inertia [kg m^2]
+  Vec I1;                    ///< ∫ρ Sᵀū₀ [kg m]
+  Vec Ibar;                  ///< ∫ρ SᵀJū₀ [kg m]
+  Mat Mff;                   ///< ∫ρ SᵀS [kg]
+  Mat Stilde;                ///< ∫ρ SᵀJS (skew) [kg]
+  double driver_inertia{0.0};  ///< flywheel + reflected rotor inertia included in J0 [kg m^2]
+  // Elastic forces.
+  Mat K;                     ///< n×n
+  Mat Kg;                    ///< n×n geometric stiffness per newton of axial force
+  RowVec axial_force;        ///< N(q) = axial_force · q [N]
+  bool geometric_stiffening{false};
+  Mat D;                     ///< n×n damping
+  DampingSpec damping;
+  Vec modal_frequencies_hz;  ///< eigenfrequencies of (K, M_ff) [Hz] (empty if rigid)
+  Vec modal_damping_ratios;  ///< ζ_i used (modal kinds) [-]
+  std::shared_ptr<const fem::ReducedRod> rod;  ///< null for rigid bodies
+  /// Structural non-zero mask of the q–q block (union of M_ff, S̃, K, D, K_g; dense with
+  /// geometric stiffening), for the sparse Jacobian pattern.
+  std::vector<std::vector<bool>> qq_mask;
+
+  int num_coordinates() const { return 3 + num_modes; }
+  int coordinate(int slot) const { return coordinate_offset + slot; }
+};
+
+struct Marker {
+  std::string name;
+  int body{-1};              ///< body index, −1 = ground
+  Vec2 position{0.0, 0.0};   ///< ū₀ in the body frame (ground: world) [m]
+  double angle{0.0};         ///< orientation of the marker frame relative to the body frame [rad]
+  Mat2X S_u;                 ///< 2×n elastic displacement rows [m]
+  RowVec S_phi;              ///< 1×n elastic rotation row [rad]
+  int node{-1};              ///< FE node of a flexible body, −1 otherwise
+  /// Body coordinate slots that move this marker (frame slots and q_k with non-zero rows).
+  std::vector<int> active_slots;
+};
+
+enum class JointKind { kRevolute, kPrismatic, kWeld, kGround };
+const char* ToString(JointKind kind);
+
+struct Joint {
+  std::string name;
+  JointKind kind{JointKind::kRevolute};
+  int marker_i{-1};          ///< revolute/prismatic/weld
+  int marker_j{-1};
+  int body{-1};              ///< kGround: the grounded body
+  Vec2 ground_position{0.0, 0.0};  ///< kGround: held frame origin [m]
+  double ground_angle{0.0};        ///< kGround: held frame angle [rad]
+  Vec2 axis{1.0, 0.0};       ///< kPrismatic: unit axis in marker i's frame
+  double relative_angle{0.0};  ///< kPrismatic/kWeld: held φ_j − φ_i [rad]
+  int row{0};                ///< first constraint row (index into λ and μ)
+  int num_rows{0};           ///< 2 (revolute, prismatic) or 3 (weld, ground)
+  int guide_element{-1};     ///< kPrismatic: index of its damper/friction element, or −1
+};
+
+enum class DriverKind { kConstantSpeed, kSpeedProfile, kDcMotor };
+const char* ToString(DriverKind kind);
+
+struct Driver {
+  std::string name;
+  DriverKind kind{DriverKind::kConstantSpeed};
+  int body{-1};
+  double initial_angle{0.0};  ///< θ at t = 0 (constraint drivers) [rad]
+  double speed{0.0};          ///< kConstantSpeed: ω [rad/s]
+  SpeedProfile profile;       ///< kSpeedProfile
+  DcMotorSpec motor;          ///< kDcMotor
+  int row{-1};                ///< constraint row (−1 for the motor, which is a force)
+
+  bool is_constraint() const { return kind != DriverKind::kDcMotor; }
+  double PrescribedAngle(double t) const;         ///< constraint drivers [rad]
+  double PrescribedSpeed(double t) const;         ///< [rad/s]
+  double PrescribedAcceleration(double t) const;  ///< [rad/s^2]
+  /// DC motor torque on the body at body speed ω: ratio·T_stall·(1 − ratio·ω/ω_noload) [N m].
+  double MotorTorque(double body_speed) const;
+  double MotorTorqueSlope() const;  ///< dT/dω [N m s]
+};
+
+struct ElementSlot {
+  std::string name;
+  int marker_i{-1};
+  int marker_j{-1};
+  std::shared_ptr<const ForceElement> element;
+  int state_offset{0};   ///< first state in z (relative to the z block)
+  int num_states{0};
+  int memory_offset{0};  ///< first entry in RunData::element_memory
+  int num_memory{0};
+  int root_offset{0};    ///< first root among the element roots
+  int num_roots{0};
+  int joint{-1};         ///< prismatic joint this guide element belongs to, or −1
+};
+
+/// Quadrature states appended to z (energy bookkeeping), in this order.
+enum Quadrature : int {
+  kDissipatedElements = 0,  ///< ∫ Σ element dissipation dt [J]
+  kDissipatedDamping = 1,   ///< ∫ Σ q̇ᵀ D q̇ dt (modal/Rayleigh damping) [J]
+  kDriverWork = 2,          ///< ∫ Σ driver torque · θ̇ dt [J]
+  kStiffeningWork = 3,      ///< ∫ Σ q̇ᵀ(−N(q) K_g q) dt [J]
+  kNumQuadratures = 4
+};
+
+/// The immutable mechanism. Layout of the DAE unknowns:
+/// y = [p (np) | v (np) | λ (nc) | μ (nc) | z_elements (nze) | z_quadrature (4)].
+class Mechanism {
+ public:
+  int num_bodies() const { return static_cast<int>(bodies_.size()); }
+  int num_coordinates() const { return num_coordinates_; }   ///< np
+  int num_constraints() const { return num_constraints_; }   ///< nc
+  int num_element_states() const { return num_element_states_; }
+  int num_element_memory() const { return num_element_memory_; }
+  int num_element_roots() const { return num_element_roots_; }
+  int size() const { return 2 * num_coordinates_ + 2 * num_constraints_ + num_element_states_ +
+                            kNumQuadratures; }  ///< N
+  int max_body_coordinates() const { return max_body_coordinates_; }
+
+  int p_offset() const { return 0; }
+  int v_offset() const { return num_coordinates_; }
+  int lambda_offset() const { return 2 * num_coordinates_; }
+  int mu_offset() const { return 2 * num_coordinates_ + num_constraints_; }
+  int z_offset() const { return 2 * num_coordinates_ + 2 * num_constraints_; }
+  int quadrature_offset() const { return z_offset() + num_element_states_; }
+
+  const std::vector<Body>& bodies() const { return bodies_; }
+  const std::vector<Marker>& markers() const { return markers_; }
+  const std::vector<Joint>& joints() const { return joints_; }
+  const std::vector<Driver>& drivers() const { return drivers_; }
+  const std::vector<ElementSlot>& elements() const { return elements_; }
+  const Body& body(BodyId id) const { return bodies_.at(id.index); }
+  const Marker& marker(MarkerId id) const { return markers_.at(id.index); }
+  const Joint& joint(JointId id) const { return joints_.at(id.index); }
+  const Driver& driver(DriverId id) const { return drivers_.at(id.index); }
+  const ElementSlot& element(ElementId id) const { return elements_.at(id.index); }
+  const Vec2& gravity() const { return gravity_; }  ///< [m/s^2]
+
+  /// Index in p (and v) of a body slot (kX, kY, kTheta, kFirstMode + k).
+  int coordinate(BodyId body, int slot) const;
+
+  /// Lookup by name; throws InputError(kind, name, "unknown ...") if absent.
+  BodyId FindBody(const std::string& name) const;
+  MarkerId FindMarker(const std::string& name) const;
+  JointId FindJoint(const std::string& name) const;
+  DriverId FindDriver(const std::string& name) const;
+  ElementId FindElement(const std::string& name) const;
+
+  /// Readable name of unknown y[i], e.g. "v[crank.theta]", "lambda[pin.1]", "z[contact.0]".
+  std::string VariableName(int i) const;
+  /// Times in (t0, t1) at which a driver's prescribed acceleration jumps (speed-profile knots).
+  std::vector<double> Breakpoints(double t0, double t1) const;
+
+ private:
+  friend class MechanismBuilder;
+  std::vector<Body> bodies_;
+  std::vector<Marker> markers_;
+  std::vector<Joint> joints_;
+  std::vector<Driver> drivers_;
+  std::vector<ElementSlot> elements_;
+  Vec2 gravity_{0.0, 0.0};
+  int num_coordinates_{0}, num_constraints_{0}, num_element_states_{0};
+  int num_element_memory_{0}, num_element_roots_{0}, max_body_coordinates_{0};
+};
+
+/// Collects bodies, markers, joints, drivers and elements; every Add validates its input
+/// (InputError naming the item and field); Build() checks the topology and freezes.
+class MechanismBuilder {
+ public:
+  BodyId AddRigidBody(const RigidBodySpec& spec);
+  BodyId AddFlexibleBody(const FlexibleBodySpec& spec);
+
+  /// A fixed point in the world.
+  MarkerId AddGroundMarker(const std::string& name, const Vec2& position, double angle = 0.0);
+  /// A point fixed in a body frame (on a flexible body: carried by the frame only).
+  MarkerId AddBodyMarker(BodyId body, const std::string& name, const Vec2& position,
+                         double angle = 0.0);
+  /// A point carried by FE node `node` of a flexible body, offset in the rod frame
+  /// (ReducedRod::Marker(node, offset)).
+  MarkerId AddNodeMarker(BodyId body, const std::string& name, int node,
+                         const Vec2& offset = Vec2::Zero(), double angle = 0.0);
+  /// A point of a flexible body given by its shape rows directly.
+  MarkerId AddShapeMarker(BodyId body, const std::string& name, const fem::MarkerShape& shape,
+                          double angle = 0.0);
+
+  JointId AddRevolute(const std::string& name, MarkerId i, MarkerId j);
+  /// Prismatic joint; adds its guide element (damper/friction) when either is non-zero.
+  JointId AddPrismatic(const PrismaticSpec& spec);
+  JointId AddWeld(const std::string& name, MarkerId i, MarkerId j, double relative_angle = 0.0);
+  /// Fixes the body's frame coordinates (x, y, θ).
+  JointId AddGroundJoint(const std::string& name, BodyId body, const Vec2& position,
+                         double angle);
+
+  /// θ_body = θ0 + ω t (rheonomic constraint; its multiplier gives the driver torque).
+  DriverId AddConstantSpeedDriver(const std::string& name, BodyId body, double initial_angle,
+                                  double speed);
+  /// θ_body = θ0 + ∫_0^t ω(s) ds with ω piecewise linear through (times, speeds).
+  DriverId AddSpeedProfileDriver(const std::string& name, BodyId body, double initial_angle,
+                                 const std::vector<double>& times,
+                                 const std::vector<double>& speeds);
+  /// DC-motor torque line through a belt ratio; adds the flywheel and reflected rotor
+  /// inertia to the body (no constraint).
+  DriverId AddDcMotorDriver(const std::string& name, BodyId body, const DcMotorSpec& motor);
+
+  ElementId AddSpringDamper(const std::string& name, MarkerId i, MarkerId j, double stiffness,
+                            double damping, double free_length);
+  ElementId AddRotationalSpringDamper(const std::string& name, MarkerId i, MarkerId j,
+                                      double stiffness, double damping, double free_angle);
+  /// A user force element (e.g. the clearance joint).
+  ElementId AddForceElement(const std::string& name, MarkerId i, MarkerId j,
+                            std::shared_ptr<const ForceElement> element);
+
+  /// Gravity acceleration vector [m/s^2]; default off (zero).
+  void SetGravity(const Vec2& gravity);
+
+  /// Validates the topology and returns the frozen model. The builder cannot be used after.
+  Mechanism Build();
+
+ private:
+  void CheckNotBuilt() const;
+  void CheckName(const std::string& kind, const std::string& name) const;
+  void CheckBody(BodyId body, const std::string& key) const;
+  void CheckMarker(MarkerId marker, const std::string& key) const;
+  int AddMarkerImpl(Marker marker);
+  ElementId AddElementImpl(const std::string& name, MarkerId i, MarkerId j,
+                           std::shared_ptr<const ForceElement> element, int joint);
+
+  Mechanism m_;
+  bool built_{false};
+};
+
+}  // namespace flexrod::multibody

@@ -1,0 +1,91 @@
+// multibody/run_data.cc — sizing of the per-run workspace.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
+#include "multibody/run_data.h"
+
+#include <algorithm>
+
+namespace flexrod::multibody {
+
+void ResizeBodyScratch(const Body& b, BodyScratch* s) {
+  const int n = b.num_modes, nb = b.num_coordinates();
+  s->A.setIdentity();
+  s->s.setZero();
+  s->w = Vec::Zero(n);
+  s->c = Vec::Zero(n);
+  s->Kq = Vec::Zero(n);
+  s->Kgq = Vec::Zero(n);
+  s->Dqd = Vec::Zero(n);
+  s->Sqd = Vec::Zero(n);
+  s->M = Mat::Zero(nb, nb);
+  s->Qv = Vec::Zero(nb);
+  s->tmp = Vec::Zero(nb);
+  s->AS = Mat2X::Zero(2, n);
+}
+
+RunData::RunData(const Mechanism& m) : model(&m) {
+  const auto& bs = m.bodies();
+  bodies.resize(bs.size());
+  for (size_t i = 0; i < bs.size(); ++i) ResizeBodyScratch(bs[i], &bodies[i]);
+  auto nb_of = [&m](int body) { return body < 0 ? 0 : m.bodies()[body].num_coordinates(); };
+  markers.resize(m.markers().size());
+  for (size_t i = 0; i < markers.size(); ++i) {
+    const Marker& mk = m.markers()[i];
+    const int nb = nb_of(mk.body);
+    const int n = mk.body < 0 ? 0 : m.bodies()[mk.body].num_modes;
+    markers[i].Jr = Mat2X::Zero(2, nb);
+    markers[i].Jphi = RowVec::Zero(nb);
+    markers[i].C = Mat2X::Zero(2, nb);
+    markers[i].AS = Mat2X::Zero(2, n);
+  }
+  joints.resize(m.joints().size());
+  for (size_t i = 0; i < joints.size(); ++i) {
+    const Joint& jt = m.joints()[i];
+    int na = 0, nb = 0;
+    if (jt.kind == JointKind::kGround) {
+      nb = nb_of(jt.body);
+    } else {
+      na = nb_of(m.markers()[jt.marker_i].body);
+      nb = nb_of(m.markers()[jt.marker_j].body);
+    }
+    JointScratch& js = joints[i];
+    js.Ga = Mat::Zero(jt.num_rows, na);
+    js.Gb = Mat::Zero(jt.num_rows, nb);
+    js.Haa = Mat::Zero(na, na);
+    js.Hab = Mat::Zero(na, nb);
+    js.Hba = Mat::Zero(nb, na);
+    js.Hbb = Mat::Zero(nb, nb);
+    js.va = Vec::Zero(na);
+    js.vb = Vec::Zero(nb);
+    js.ha = Vec::Zero(na);
+    js.hb = Vec::Zero(nb);
+  }
+  elements.resize(m.elements().size());
+  const int nbmax = m.max_body_coordinates();
+  for (size_t i = 0; i < elements.size(); ++i) {
+    const ElementSlot& e = m.elements()[i];
+    ElementScratch& es = elements[i];
+    const int ns = e.num_states;
+    const int ni = nb_of(m.markers()[e.marker_i].body), nj = nb_of(m.markers()[e.marker_j].body);
+    es.zdot = Vec::Zero(ns);
+    es.z_fd = Vec::Zero(ns);
+    es.zdot_fd = Vec::Zero(ns);
+    es.o_plus = Vec::Zero(7 + ns);
+    es.o_minus = Vec::Zero(7 + ns);
+    es.Do = Mat::Zero(7 + ns, 12);
+    es.Dz = Mat::Zero(7 + ns, ns);
+    es.Kp_i = Mat::Zero(6, ni);
+    es.Kv_i = Mat::Zero(6, ni);
+    es.Kp_j = Mat::Zero(6, nj);
+    es.Kv_j = Mat::Zero(6, nj);
+    es.Gen_i = Mat::Zero(3, ni);
+    es.Gen_j = Mat::Zero(3, nj);
+    es.T = Mat::Zero(7 + ns, nbmax);
+    es.TT = Mat::Zero(nbmax, nbmax);
+  }
+  Q = Vec::Zero(m.num_coordinates());
+  gv_scratch = Vec::Zero(m.num_constraints());
+  element_memory.assign(m.num_element_memory(), 0.0);
+}
+
+}  // namespace flexrod::multibody

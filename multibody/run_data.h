@@ -1,0 +1,92 @@
+// multibody/run_data.h — the mutable per-run workspace (Pinocchio's Data, Drake's Context):
+// every scratch array the residual, the Jacobian, the initial-condition solver and the output
+// queries need, sized once from the Mechanism so the hot path never allocates; plus the
+// per-run element memory and the reference energy of the run. One RunData per thread and
+// run; the Mechanism is shared read-only. What does not live here: the model (mechanism.h),
+// the equations (dae.h).
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <vector>
+
+#include "common/eigen.h"
+#include "multibody/force_element.h"
+#include "multibody/mechanism.h"
+
+namespace flexrod::multibody {
+
+/// Per-body quantities at the current configuration (refreshed by every evaluation).
+struct BodyScratch {
+  double cos_theta{1.0}, sin_theta{0.0};
+  Mat2 A;          ///< A(θ)
+  Vec2 s;          ///< S̄₀ + S̄ q [kg m]
+  Vec w;           ///< I₁ + M_ff q (n) [kg m]
+  Vec c;           ///< Ī + S̃ q (n) [kg m]
+  Vec Kq;          ///< (K + N(q) K_g) q (n) [N]
+  Vec Kgq;         ///< K_g q (n)
+  Vec Dqd;         ///< D q̇ (n) [N]
+  Vec Sqd;         ///< S̃ q̇ (n)
+  double axial{0.0};  ///< N(q) [N]
+  Mat M;           ///< mass matrix (nb × nb)
+  Vec Qv;          ///< quadratic-velocity vector (nb)
+  Vec tmp;         ///< nb
+  Mat2X AS;        ///< A S̄ (2×n), Jacobian only
+};
+
+/// World kinematics of a marker at the current state plus its Jacobian pieces.
+struct MarkerScratch {
+  MarkerKinematics kin;   ///< position, velocity, angle, angular velocity
+  Vec2 Au{0.0, 0.0};      ///< A ū (world offset from the frame origin) [m]
+  Vec2 ASqd{0.0, 0.0};    ///< A S_u q̇ [m/s]
+  Vec2 conv_acc{0.0, 0.0};  ///< convective acceleration a_v = r̈ − L p̈ [m/s^2]
+  Mat2X Jr;               ///< ∂r/∂p_b (2 × nb)
+  RowVec Jphi;            ///< ∂φ/∂p_b (1 × nb)
+  Mat2X C;                ///< ∂(Jr v_b)/∂p_b (2 × nb)
+  Mat2X AS;               ///< A S_u (2 × n)
+};
+
+struct JointScratch {
+  Mat Ga, Gb;                 ///< constraint Jacobian blocks (rows × nb_i, rows × nb_j)
+  Mat Haa, Hab, Hba, Hbb;     ///< weighted constraint Hessian blocks
+  Vec va, vb, ha, hb;         ///< velocities of the two bodies and Hessian-vector products
+};
+
+struct ElementScratch {
+  ElementOutput out;          ///< last evaluation
+  Vec zdot;                   ///< ż (num_states)
+  Vec z_fd;                   ///< perturbed states
+  Vec zdot_fd;
+  Vec o_plus, o_minus;        ///< stacked outputs [F_i, M_i, F_j, M_j, diss, ż] (7 + ns)
+  Mat Do;                     ///< ∂o/∂κ, κ = [r_i, ṙ_i, φ_i, ω_i, r_j, ṙ_j, φ_j, ω_j]
+  Mat Dz;                     ///< ∂o/∂z
+  Mat Kp_i, Kv_i, Kp_j, Kv_j; ///< ∂κ_m/∂p_b, ∂κ_m/∂v_b (6 × nb)
+  Mat Gen_i, Gen_j;           ///< [Jr; Jφ] (3 × nb)
+  Mat T;                      ///< scratch (7 + ns) × nb_max
+  Mat TT;                     ///< scratch nb_max × nb_max
+};
+
+/// Sizes a body's scratch for body b (used by RunData and the stand-alone kernels).
+void ResizeBodyScratch(const Body& b, BodyScratch* s);
+
+class RunData {
+ public:
+  explicit RunData(const Mechanism& model);
+
+  const Mechanism* model{nullptr};  ///< the model this workspace was sized for
+  std::vector<BodyScratch> bodies;
+  std::vector<MarkerScratch> markers;
+  std::vector<JointScratch> joints;
+  std::vector<ElementScratch> elements;
+  Vec Q;                            ///< applied generalized forces (np)
+  Vec gv_scratch;                   ///< nc
+  /// Per-run element memory (ForceElement::num_memory each, at ElementSlot::memory_offset).
+  std::vector<double> element_memory;
+  /// Mechanical energy + dissipated − work at the start of the run: the energy balance
+  /// error is measured against it [J].
+  double reference_energy{0.0};
+  /// Count of residual evaluations through CalcResidual (for statistics).
+  long residual_evaluations{0};
+  long jacobian_evaluations{0};
+};
+
+}  // namespace flexrod::multibody

@@ -1,0 +1,648 @@
+// multibody/simulate.cc — consistent initial conditions, the IDA adapter and the run loop.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
+#include "multibody/simulate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+
+#include "common/error.h"
+
+namespace flexrod::multibody {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+std::vector<int> Complement(int n, const std::vector<bool>& fixed) {
+  std::vector<int> out;
+  for (int i = 0; i < n; ++i)
+    if (!fixed[i]) out.push_back(i);
+  return out;
+}
+
+Mat Columns(const Mat& A, const std::vector<int>& cols) {
+  Mat out(A.rows(), static_cast<int>(cols.size()));
+  for (size_t k = 0; k < cols.size(); ++k) out.col(static_cast<int>(k)) = A.col(cols[k]);
+  return out;
+}
+
+int WorstIndex(const Vec& r) {
+  int worst = -1;
+  double value = -1.0;
+  for (int i = 0; i < r.size(); ++i) {
+    const double a = std::isfinite(r(i)) ? std::abs(r(i)) : std::numeric_limits<double>::infinity();
+    if (a > value) {
+      value = a;
+      worst = i;
+    }
+  }
+  return worst;
+}
+
+// Generic IDA advice plus what it usually means in a mechanism.
+std::string HintForFlag(int flag) {
+  std::string h = IdaFailureHint(flag);
+  if (h.find("singular") != std::string::npos) {
+    h += " — redundant constraints, a dead-centre configuration, or a coordinate without mass "
+         "or constraint";
+  } else if (h.find("residual") != std::string::npos) {
+    h += " — an element reported a problem (e.g. penetration outside its valid range) or "
+         "forces are not finite: check contact stiffness and element parameters";
+  } else if (h.find("Newton") != std::string::npos || h.find("error-test") != std::string::npos) {
+    h += "; check the contact stiffness, the friction regularisation speed and the element "
+         "finite-difference scales";
+  }
+  return h;
+}
+
+void InitializeElements(const Mechanism& model, RunData* data, Vec* y) {
+  UpdateKinematics(model, data, y->data());
+  std::fill(data->element_memory.begin(), data->element_memory.end(), 0.0);
+  y->tail(model.size() - model.z_offset()).setZero();
+  for (const ElementSlot& e : model.elements()) {
+    e.element->Initialize(data->markers[e.marker_i].kin, data->markers[e.marker_j].kin,
+                          y->data() + model.z_offset() + e.state_offset,
+                          data->element_memory.data() + e.memory_offset);
+  }
+}
+
+double InitialEnergy(const Mechanism& model, RunData* data, const Vec& y) {
+  UpdateKinematics(model, data, y.data());
+  const double saved = data->reference_energy;
+  data->reference_energy = 0.0;
+  const double e = CalcEnergies(model, data, y.data()).total();
+  data->reference_energy = saved;
+  return e;
+}
+
+}  // namespace
+
+// ---- initial conditions ------------------------------------------------------------------------------
+void InitialConditionSpec::Validate(const Mechanism& model) const {
+  const int np = model.num_coordinates();
+  Require(coordinates.size() == 0 || coordinates.size() == np, "initial.coordinates",
+          static_cast<double>(coordinates.size()), "must be empty or have one entry per coordinate");
+  Require(velocities.size() == 0 || velocities.size() == np, "initial.velocities",
+          static_cast<double>(velocities.size()), "must be empty or have one entry per coordinate");
+  Require(coordinates.allFinite() && velocities.allFinite(), "initial", 0.0,
+          "coordinates and velocities must be finite");
+  for (int i : fixed_coordinates) {
+    Require(i >= 0 && i < np, "initial.fixed_coordinates", i, "must be a coordinate index");
+  }
+  for (int i : fixed_velocities) {
+    Require(i >= 0 && i < np, "initial.fixed_velocities", i, "must be a coordinate index");
+  }
+  RequirePositive("initial.position_tolerance", position_tolerance);
+  Require(max_newton_iterations >= 1, "initial.max_newton_iterations", max_newton_iterations,
+          "must be >= 1");
+  Require(max_equilibrium_iterations >= 1, "initial.max_equilibrium_iterations",
+          max_equilibrium_iterations, "must be >= 1");
+}
+
+void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double t, Vec* y,
+                                  Vec* yp) {
+  const int np = model.num_coordinates(), nc = model.num_constraints(), N = model.size();
+  const int nz = N - model.z_offset();
+  y->segment(model.lambda_offset(), 2 * nc).setZero();
+  yp->setZero(N);
+  yp->head(np) = y->segment(np, np);
+  Vec r(N);
+  if (CalcResidual(model, data, t, y->data(), yp->data(), r.data()) != 0) {
+    throw NumericalError("consistent derivatives at t = " + FormatValue(t) +
+                         " s: the residual failed (element failure or non-finite forces)");
+  }
+  const Vec Q = -r.segment(np, np);  // with v̇ = 0 and λ = 0, F2 = −Q
+  const Vec p = y->head(np), v = y->segment(np, np);
+  Mat M, G;
+  Vec gt, gamma;
+  CalcMassMatrix(model, data, p, &M);
+  CalcConstraintJacobian(model, data, t, p, &G, &gt);
+  CalcConstraintAccelerationRhs(model, data, t, p, v, &gamma);
+  Mat aug = Mat::Zero(np + nc, np + nc);
+  aug.topLeftCorner(np, np) = M;
+  aug.topRightCorner(np, nc) = G.transpose();
+  aug.bottomLeftCorner(nc, np) = G;
+  Vec rhs(np + nc);
+  rhs << Q, gamma;
+  Eigen::FullPivLU<Mat> lu(aug);
+  if (!lu.isInvertible()) {
+    throw NumericalError("consistent accelerations at t = " + FormatValue(t) +
+                         " s: the augmented matrix [M Gᵀ; G 0] is singular (rank " +
+                         std::to_string(lu.rank()) + " of " + std::to_string(np + nc) +
+                         "): redundant constraints, a dead-centre configuration or a "
+                         "coordinate without mass and constraint");
+  }
+  const Vec sol = lu.solve(rhs);
+  yp->segment(np, np) = sol.head(np);
+  y->segment(model.lambda_offset(), nc) = sol.tail(nc);
+  // ż = f(t, y) including the driver power, which depends on λ: residual with ż = 0.
+  if (CalcResidual(model, data, t, y->data(), yp->data(), r.data()) != 0) {
+    throw NumericalError("consistent derivatives at t = " + FormatValue(t) +
+                         " s: the residual failed");
+  }
+  yp->tail(nz) = -r.tail(nz);
+}
+
+ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, double t0,
+                                       const InitialConditionSpec& spec) {
+  spec.Validate(model);
+  FLEXROD_ASSERT(data->model == &model);
+  const int np = model.num_coordinates(), nc = model.num_constraints(), N = model.size();
+  Vec p = spec.coordinates.size() == np ? spec.coordinates : Vec::Zero(np);
+  Vec v = spec.velocities.size() == np ? spec.velocities : Vec::Zero(np);
+  std::vector<bool> fix_p(np, false), fix_v(np, false);
+  for (int i : spec.fixed_coordinates) fix_p[i] = true;
+  for (int i : spec.fixed_velocities) fix_v[i] = true;
+  bool any_flexible = false;
+  for (const Body& b : model.bodies()) {
+    for (int k = 0; k < b.num_modes; ++k) {
+      fix_p[b.coordinate(kFirstMode + k)] = true;
+      fix_v[b.coordinate(kFirstMode + k)] = true;
+      any_flexible = true;
+    }
+  }
+  const std::vector<int> free_p = Complement(np, fix_p), free_v = Complement(np, fix_v);
+
+  auto solve_positions = [&]() {
+    Vec g, gt;
+    Mat G;
+    for (int it = 0; it <= spec.max_newton_iterations; ++it) {
+      CalcConstraints(model, data, t0, p, &g);
+      if (nc == 0) return;
+      if (g.lpNorm<Eigen::Infinity>() <= spec.position_tolerance) {
+        CalcConstraintJacobian(model, data, t0, p, &G, &gt);
+        Eigen::CompleteOrthogonalDecomposition<Mat> cod(Columns(G, free_p));
+        if (cod.rank() < nc) {
+          throw NumericalError(
+              "initial conditions: the constraint Jacobian over the free coordinates has rank " +
+              std::to_string(cod.rank()) + " < " + std::to_string(nc) +
+              " constraints: redundant constraints, a dead-centre configuration, or too many "
+              "fixed coordinates");
+        }
+        return;
+      }
+      if (it == spec.max_newton_iterations) break;
+      CalcConstraintJacobian(model, data, t0, p, &G, &gt);
+      Eigen::CompleteOrthogonalDecomposition<Mat> cod(Columns(G, free_p));
+      const Vec dx = cod.solve(-g);  // minimum-norm Newton step over the free coordinates
+      for (size_t k = 0; k < free_p.size(); ++k) p(free_p[k]) += dx(static_cast<int>(k));
+    }
+    const int worst = WorstIndex(g);
+    throw NumericalError("initial conditions: position Newton did not converge in " +
+                         std::to_string(spec.max_newton_iterations) + " iterations; |g| = " +
+                         FormatValue(g.lpNorm<Eigen::Infinity>()) + " at " +
+                         model.VariableName(model.lambda_offset() + worst) +
+                         " (check the initial guess and the assembly)");
+  };
+  auto solve_velocities = [&]() {
+    if (nc == 0) return;
+    Mat G;
+    Vec gt;
+    CalcConstraintJacobian(model, data, t0, p, &G, &gt);
+    const Vec rhs = -gt - G * v;
+    Eigen::CompleteOrthogonalDecomposition<Mat> cod(Columns(G, free_v));
+    const Vec dv = cod.solve(rhs);
+    for (size_t k = 0; k < free_v.size(); ++k) v(free_v[k]) += dv(static_cast<int>(k));
+    const double err = (G * v + gt).lpNorm<Eigen::Infinity>();
+    if (!(err <= 1e-9 * std::max(1.0, v.lpNorm<Eigen::Infinity>()))) {
+      throw NumericalError("initial conditions: velocity constraints cannot be met with the fixed "
+                           "velocities (residual " + FormatValue(err) + ")");
+    }
+  };
+  Vec y = Vec::Zero(N), yp = Vec::Zero(N);
+  auto assemble = [&]() {
+    y.head(np) = p;
+    y.segment(np, np) = v;
+    InitializeElements(model, data, &y);
+  };
+
+  solve_positions();
+  solve_velocities();
+  assemble();
+  if (spec.elastic == ElasticInitialState::kStaticEquilibrium && any_flexible) {
+    // Fixed point: hold q̈ = 0 with extra multipliers ρ (the generalized force still needed
+    // on q); update K Δq = ρ until ρ vanishes.
+    std::vector<int> qidx;
+    for (const Body& b : model.bodies())
+      for (int k = 0; k < b.num_modes; ++k) qidx.push_back(b.coordinate(kFirstMode + k));
+    const int nq = static_cast<int>(qidx.size());
+    bool converged = false;
+    double last_change = 0.0;
+    for (int it = 0; it < spec.max_equilibrium_iterations && !converged; ++it) {
+      yp.setZero();
+      yp.head(np) = v;
+      Vec r(N);
+      y.segment(model.lambda_offset(), 2 * nc).setZero();
+      if (CalcResidual(model, data, t0, y.data(), yp.data(), r.data()) != 0) {
+        throw NumericalError("static equilibrium: the residual failed");
+      }
+      const Vec Q = -r.segment(np, np);
+      Mat M, G;
+      Vec gt, gamma;
+      CalcMassMatrix(model, data, p, &M);
+      CalcConstraintJacobian(model, data, t0, p, &G, &gt);
+      CalcConstraintAccelerationRhs(model, data, t0, p, v, &gamma);
+      const int na = np + nc + nq;
+      Mat aug = Mat::Zero(na, na);
+      aug.topLeftCorner(np, np) = M;
+      aug.block(0, np, np, nc) = G.transpose();
+      aug.block(np, 0, nc, np) = G;
+      for (int k = 0; k < nq; ++k) {
+        aug(qidx[k], np + nc + k) = 1.0;
+        aug(np + nc + k, qidx[k]) = 1.0;
+      }
+      Vec rhs = Vec::Zero(na);
+      rhs.head(np) = Q;
+      rhs.segment(np, nc) = gamma;
+      Eigen::FullPivLU<Mat> lu(aug);
+      if (!lu.isInvertible()) {
+        throw NumericalError("static equilibrium: singular augmented matrix (rank " +
+                             std::to_string(lu.rank()) + " of " + std::to_string(na) + ")");
+      }
+      const Vec sol = lu.solve(rhs);
+      double change = 0.0, qmax = 0.0;
+      int offset = 0;
+      for (const Body& b : model.bodies()) {
+        const int n = b.num_modes;
+        if (n == 0) continue;
+        const Vec rho = sol.segment(np + nc + offset, n);
+        Eigen::FullPivLU<Mat> klu(b.K);
+        if (!klu.isInvertible()) {
+          throw NumericalError("static equilibrium: the stiffness of body " + b.name +
+                               " is singular (rigid-body content in the basis); use an "
+                               "undeformed start");
+        }
+        const Vec dq = klu.solve(rho);
+        p.segment(b.coordinate(kFirstMode), n) += dq;
+        change = std::max(change, dq.lpNorm<Eigen::Infinity>());
+        qmax = std::max(qmax, p.segment(b.coordinate(kFirstMode), n).lpNorm<Eigen::Infinity>());
+        offset += n;
+      }
+      solve_positions();
+      solve_velocities();
+      assemble();
+      last_change = change;
+      converged = change <= 1e-13 + 1e-10 * qmax;
+    }
+    if (!converged) {
+      throw NumericalError("static equilibrium of the elastic coordinates did not converge in " +
+                           std::to_string(spec.max_equilibrium_iterations) +
+                           " iterations (last change " + FormatValue(last_change) + ")");
+    }
+  }
+  ComputeConsistentDerivatives(model, data, t0, &y, &yp);
+  ConsistentState state;
+  state.t = t0;
+  state.y = std::move(y);
+  state.yp = std::move(yp);
+  data->reference_energy = InitialEnergy(model, data, state.y);
+  return state;
+}
+
+void SetBodyPose(const Mechanism& model, BodyId body, const Vec2& origin, double angle, Vec* p) {
+  if (p->size() != model.num_coordinates()) p->setZero(model.num_coordinates());
+  (*p)(model.coordinate(body, kX)) = origin.x();
+  (*p)(model.coordinate(body, kY)) = origin.y();
+  (*p)(model.coordinate(body, kTheta)) = angle;
+}
+
+void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,
+                     double angular_velocity, Vec* v) {
+  if (v->size() != model.num_coordinates()) v->setZero(model.num_coordinates());
+  (*v)(model.coordinate(body, kX)) = velocity.x();
+  (*v)(model.coordinate(body, kY)) = velocity.y();
+  (*v)(model.coordinate(body, kTheta)) = angular_velocity;
+}
+
+// ---- MechanismDae -------------------------------------------------------------------------------------
+MechanismDae::MechanismDae(const Mechanism& model, RunData* data,
+                           std::optional<IndexEventSpec> index, double velocity_tol_scale,
+                           double energy_tol_scale)
+    : model_(model), data_(data), index_(index), velocity_tol_scale_(velocity_tol_scale),
+      energy_tol_scale_(energy_tol_scale) {
+  FLEXROD_ASSERT(data->model == &model);
+}
+
+int MechanismDae::num_roots() const {
+  return model_.num_element_roots() + (index_.has_value() ? 1 : 0);
+}
+
+int MechanismDae::index_root() const {
+  return index_.has_value() ? model_.num_element_roots() : -1;
+}
+
+void MechanismDae::DifferentialMask(double* id) const { multibody::DifferentialMask(model_, id); }
+
+void MechanismDae::AbsoluteToleranceScales(double* scales) const {
+  multibody::AbsoluteToleranceScales(model_, velocity_tol_scale_, energy_tol_scale_, scales);
+}
+
+int MechanismDae::Residual(double t, const double* y, const double* yp, double* r) {
+  return CalcResidual(model_, data_, t, y, yp, r);
+}
+
+int MechanismDae::Jacobian(double t, double cj, const double* y, const double* yp, double* jac) {
+  return AddJacobian(model_, data_, t, cj, y, yp, jac, model_.size());
+}
+
+SparsityPattern MechanismDae::JacobianPattern() const {
+  return multibody::JacobianPattern(model_);
+}
+
+int MechanismDae::Roots(double t, const double* y, const double* /*yp*/, double* g) {
+  CalcElementRoots(model_, data_, t, y, g);
+  if (index_.has_value()) {
+    const double theta = y[model_.coordinate(index_->body, kTheta)];
+    g[model_.num_element_roots()] = std::sin(0.5 * (theta - index_->angle));
+  }
+  return 0;
+}
+
+// ---- SampleView -----------------------------------------------------------------------------------------
+SampleView::SampleView(const Mechanism& model, RunData* data, double t, const double* y,
+                       const double* yp)
+    : model_(model), data_(data), t_(t), y_(y), yp_(yp) {}
+
+void SampleView::Ready() const {
+  if (!ready_) {
+    UpdateKinematics(model_, data_, y_);
+    ready_ = true;
+  }
+}
+
+const MarkerKinematics& SampleView::Marker(MarkerId m) const {
+  Ready();
+  return MarkerState(*data_, m);
+}
+Vec2 SampleView::MarkerAcceleration(MarkerId m) const {
+  Ready();
+  return multibody::MarkerAcceleration(model_, *data_, m, yp_);
+}
+JointReaction SampleView::Reaction(JointId j) const {
+  Ready();
+  return CalcJointReaction(model_, *data_, j, y_);
+}
+DriverState SampleView::Driver(DriverId d) const { return CalcDriverState(model_, d, y_); }
+ElementReport SampleView::Element(ElementId e) const {
+  Ready();
+  return CalcElementReport(model_, data_, e, t_, y_);
+}
+EnergyReport SampleView::Energies() const {
+  Ready();
+  return CalcEnergies(model_, data_, y_);
+}
+double SampleView::ConstraintViolation() const {
+  Ready();
+  return MaxConstraintViolation(model_, data_, t_, y_);
+}
+
+// ---- run loop ---------------------------------------------------------------------------------------
+void SimulationOptions::Validate(const Mechanism& model) const {
+  Require(std::isfinite(t_start), "simulation.t_start", t_start, "must be finite");
+  Require(t_end > t_start && std::isfinite(t_end), "simulation.t_end", t_end,
+          "must be finite and > t_start");
+  RequirePositive("simulation.sample_rate", sample_rate);
+  Require(std::isfinite(sample_start), "simulation.sample_start", sample_start, "must be finite");
+  RequireNonNegative("simulation.max_steps", static_cast<double>(max_steps));
+  RequirePositive("simulation.velocity_tol_scale", velocity_tol_scale);
+  RequirePositive("simulation.energy_tol_scale", energy_tol_scale);
+  if (start_sampling_at_index && !index_event.has_value()) {
+    throw InputError("simulation.start_sampling_at_index", "true", "needs an index_event");
+  }
+  if (index_event.has_value()) {
+    Require(index_event->body.index >= 0 && index_event->body.index < model.num_bodies(),
+            "simulation.index_event.body", index_event->body.index, "must be a body");
+    Require(std::isfinite(index_event->angle), "simulation.index_event.angle", index_event->angle,
+            "must be finite");
+  }
+  integrator.Validate();
+}
+
+const char* ToString(SimulationOutcome outcome) {
+  switch (outcome) {
+    case SimulationOutcome::kCompleted: return "completed";
+    case SimulationOutcome::kIntegratorFailure: return "integrator-failure";
+    case SimulationOutcome::kStepLimit: return "step-limit";
+    case SimulationOutcome::kInitialConditionFailure: return "initial-condition-failure";
+  }
+  return "?";
+}
+
+std::string SimulationStatus::Summary() const {
+  std::ostringstream os;
+  os << ToString(outcome) << " at t = " << t_reached << " s";
+  if (!ok()) {
+    os << ": " << message << "\n  hint: " << hint << "\n  |p| = " << norm_coordinates
+       << ", |v| = " << norm_velocities << ", |lambda| = " << norm_multipliers;
+    if (worst_residual_index >= 0) {
+      os << "\n  largest residual " << worst_residual << " at " << worst_residual_variable;
+    }
+    if (worst_error_index >= 0) {
+      os << "\n  largest weighted local error " << worst_weighted_error << " at "
+         << worst_error_variable;
+    }
+  }
+  os << "\n  steps " << stats.steps << ", residuals " << stats.residual_evaluations
+     << ", Jacobians " << stats.jacobian_evaluations << ", Newton iterations "
+     << stats.nonlinear_iterations << ", convergence failures "
+     << stats.nonlinear_convergence_failures << ", error-test failures "
+     << stats.error_test_failures << ", roots " << stats.roots_found << ", samples "
+     << num_samples;
+  return os.str();
+}
+
+SimulationStatus Simulate(const Mechanism& model, RunData* data, const InitialConditionSpec& ic,
+                          const SimulationOptions& options, const SimulationCallbacks& callbacks) {
+  options.Validate(model);
+  ConsistentState state;
+  try {
+    state = ComputeConsistentState(model, data, options.t_start, ic);
+  } catch (const NumericalError& e) {
+    SimulationStatus status;
+    status.outcome = SimulationOutcome::kInitialConditionFailure;
+    status.t_reached = options.t_start;
+    status.message = e.what();
+    status.hint = "check the initial guess (assembly), the fixed coordinates and for redundant "
+                  "constraints";
+    return status;
+  }
+  return Simulate(model, data, state, options, callbacks);
+}
+
+SimulationStatus Simulate(const Mechanism& model, RunData* data, const ConsistentState& state,
+                          const SimulationOptions& options, const SimulationCallbacks& callbacks) {
+  const auto wall0 = Clock::now();
+  options.Validate(model);
+  FLEXROD_ASSERT(data->model == &model);
+  const int N = model.size(), np = model.num_coordinates();
+  Require(state.y.size() == N && state.yp.size() == N, "simulation.state", state.y.size(),
+          "must have model.size() entries");
+  const double t0 = state.t, t_end = options.t_end;
+  Require(t_end > t0, "simulation.t_end", t_end, "must be > the start time of the state");
+
+  SimulationStatus status;
+  MechanismDae dae(model, data, options.index_event, options.velocity_tol_scale,
+                   options.energy_tol_scale);
+  IdaIntegrator ida(&dae, options.integrator);
+  status.linear_solver = ida.linear_solver();
+  data->reference_energy = InitialEnergy(model, data, state.y);
+
+  Vec ybuf = state.y, ypbuf = state.yp;  // dense-output buffers
+  Vec yev(N), ypev(N);                  // event/restart state
+  ida.Initialize(t0, state.y.data(), state.yp.data());
+
+  std::vector<double> stops = model.Breakpoints(t0, t_end);
+  stops.push_back(t_end);
+  size_t stop_index = 0;
+  ida.SetStopTime(stops[0]);
+
+  // Sample grid t_k = grid_start + k / rate.
+  const double dt = 1.0 / options.sample_rate;
+  bool grid_active = !options.start_sampling_at_index;
+  double grid_start = options.sample_start;
+  long k_next = 0;
+  auto first_index_at_or_after = [&](double t) {
+    return std::max(0L, static_cast<long>(std::ceil((t - grid_start) / dt - 1e-9)));
+  };
+  if (grid_active) k_next = first_index_at_or_after(t0);
+  double output_seconds = 0.0;
+  const double t_fuzz = 1e-12 * std::max(1.0, std::abs(t_end));
+
+  auto emit = [&](double t, const double* y, const double* yp) {
+    ++status.num_samples;
+    if (callbacks.on_sample) callbacks.on_sample(SampleView(model, data, t, y, yp));
+  };
+  auto emit_up_to = [&](double t_ret, bool from_dense) {
+    if (!grid_active) return;
+    const auto w0 = Clock::now();
+    for (;;) {
+      const double ts = grid_start + static_cast<double>(k_next) * dt;
+      if (ts > t_ret + t_fuzz || ts > t_end + t_fuzz) break;
+      if (from_dense) {
+        const double te = std::min(ts, t_ret);
+        ida.DenseOutput(te, 0, ybuf.data());
+        ida.DenseOutput(te, 1, ypbuf.data());
+        emit(ts, ybuf.data(), ypbuf.data());
+      } else {
+        emit(ts, state.y.data(), state.yp.data());
+      }
+      ++k_next;
+    }
+    output_seconds += Seconds(w0, Clock::now());
+  };
+  auto fill_failure = [&](SimulationOutcome outcome, const std::string& message,
+                          const std::string& hint, double t_fail) {
+    status.outcome = outcome;
+    status.message = message;
+    status.hint = hint;
+    status.t_reached = t_fail;
+    Eigen::Map<const Vec> y(ida.y(), N), yp(ida.yp(), N);
+    status.norm_coordinates = y.head(np).norm();
+    status.norm_velocities = y.segment(np, np).norm();
+    status.norm_multipliers = y.segment(model.lambda_offset(), model.num_constraints()).norm();
+    Vec r(N);
+    CalcResidual(model, data, t_fail, ida.y(), ida.yp(), r.data());
+    status.worst_residual_index = WorstIndex(r);
+    if (status.worst_residual_index >= 0) {
+      status.worst_residual = r(status.worst_residual_index);
+      status.worst_residual_variable = model.VariableName(status.worst_residual_index);
+    }
+    ida.WorstLocalError(&status.worst_error_index, &status.worst_weighted_error);
+    if (status.worst_error_index >= 0) {
+      status.worst_error_variable = model.VariableName(status.worst_error_index);
+    }
+  };
+  auto restart = [&](double t) {
+    ComputeConsistentDerivatives(model, data, t, &yev, &ypev);
+    ida.Initialize(t, yev.data(), ypev.data());
+    ida.SetStopTime(stops[stop_index]);
+  };
+
+  emit_up_to(t0, false);
+  long steps = 0;
+  int* roots = nullptr;
+  std::vector<int> roots_found(std::max(1, dae.num_roots()), 0);
+  roots = roots_found.data();
+  const int index_root = dae.index_root();
+  double t_now = t0;
+
+  try {
+    for (;;) {
+      const StepResult res = ida.Step(t_end);
+      t_now = res.t;
+      if (res.outcome == StepOutcome::kStep) ++steps;
+      emit_up_to(t_now, true);
+      if (res.outcome == StepOutcome::kRoot) {
+        ida.RootInfo(roots);
+        yev = Eigen::Map<const Vec>(ida.y(), N);
+        ypev = Eigen::Map<const Vec>(ida.yp(), N);
+        UpdateKinematics(model, data, yev.data());
+        bool must_restart = false;
+        for (const ElementSlot& e : model.elements()) {
+          for (int k = 0; k < e.num_roots; ++k) {
+            const int dir = roots[e.root_offset + k];
+            if (dir == 0) continue;
+            must_restart |= e.element->OnRoot(
+                k, dir, t_now, data->markers[e.marker_i].kin, data->markers[e.marker_j].kin,
+                yev.data() + model.z_offset() + e.state_offset,
+                data->element_memory.data() + e.memory_offset);
+          }
+        }
+        if (index_root >= 0 && roots[index_root] != 0) {
+          const int ith = model.coordinate(options.index_event->body, kTheta);
+          IndexCrossing c;
+          c.t = t_now;
+          c.revolution = std::lround((yev(ith) - options.index_event->angle) /
+                                     (2.0 * std::numbers::pi));
+          c.speed = yev(np + ith);
+          status.index_crossings.push_back(c);
+          if (!grid_active && t_now >= options.sample_start - t_fuzz) {
+            grid_active = true;
+            grid_start = t_now;
+            k_next = 0;
+            emit_up_to(t_now, true);
+          }
+          if (callbacks.on_index) {
+            callbacks.on_index(c, SampleView(model, data, t_now, yev.data(), ypev.data()));
+          }
+        }
+        if (must_restart && t_end - t_now > t_fuzz) restart(t_now);
+      } else if (res.outcome == StepOutcome::kStopTime) {
+        if (stop_index + 1 >= stops.size() || t_end - t_now <= t_fuzz) break;  // t_end reached
+        ++stop_index;
+        yev = Eigen::Map<const Vec>(ida.y(), N);
+        restart(t_now);  // speed-profile knot: the prescribed acceleration jumps
+      }
+      if (t_end - t_now <= t_fuzz) break;
+      if (options.max_steps > 0 && steps >= options.max_steps) {
+        fill_failure(SimulationOutcome::kStepLimit,
+                     "step budget of " + std::to_string(options.max_steps) + " steps exhausted",
+                     "increase simulation.max_steps, loosen tolerances or check for chattering "
+                     "events",
+                     t_now);
+        break;
+      }
+    }
+    if (status.outcome == SimulationOutcome::kCompleted) status.t_reached = t_now;
+  } catch (const IntegratorFailure& e) {
+    fill_failure(SimulationOutcome::kIntegratorFailure, e.what(), HintForFlag(e.flag()), e.time());
+  } catch (const NumericalError& e) {
+    fill_failure(SimulationOutcome::kIntegratorFailure, e.what(),
+                 "a restart or an IDA set-up call failed: check the model near this time", t_now);
+  }
+  status.stats = ida.stats();
+  status.output_seconds = output_seconds;
+  status.wall_seconds = Seconds(wall0, Clock::now());
+  return status;
+}
+
+}  // namespace flexrod::multibody

@@ -1,0 +1,192 @@
+// multibody/simulate.h — running a mechanism: consistent initial conditions (positions by
+// minimum-norm Newton, velocities by minimum-norm projection, accelerations and multipliers
+// from the augmented system, optional static equilibrium of the elastic coordinates), the
+// IDA adapter of the mechanism DAE, and the run loop with fixed-rate output interpolated
+// from IDA's dense output, index-angle events, element events (contact onset) with restarts,
+// and a failure status that keeps everything produced so far. What does not live here: the
+// equations (dae.h), the IDA calls (ida_integrator.h), the queries (outputs.h).
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/eigen.h"
+#include "multibody/dae.h"
+#include "multibody/ida_integrator.h"
+#include "multibody/mechanism.h"
+#include "multibody/outputs.h"
+#include "multibody/run_data.h"
+
+namespace flexrod::multibody {
+
+// ---- initial conditions -------------------------------------------------------------------------
+enum class ElasticInitialState {
+  kUndeformed,         ///< q = guess (normally 0), q̇ = guess
+  kStaticEquilibrium,  ///< q such that the elastic coordinates are in quasi-static equilibrium
+                       ///< (q̈ = 0, q̇ = 0) under inertial/external loads at t0
+};
+
+struct InitialConditionSpec {
+  Vec coordinates;    ///< guess of p (np); empty = zeros. Elastic entries are kept (or relaxed).
+  Vec velocities;     ///< guess of v (np); empty = zeros.
+  /// Coordinates held at their guess by the position Newton (elastic coordinates always are).
+  std::vector<int> fixed_coordinates;
+  /// Velocities held at their guess by the velocity projection (elastic velocities always are).
+  std::vector<int> fixed_velocities;
+  ElasticInitialState elastic{ElasticInitialState::kUndeformed};
+  double position_tolerance{1e-12};   ///< max |g| accepted [m or rad], > 0
+  int max_newton_iterations{50};      ///< >= 1
+  int max_equilibrium_iterations{100};  ///< static-equilibrium fixed point, >= 1
+  void Validate(const Mechanism& model) const;
+};
+
+/// A consistent (t, y, ẏ): g = 0, G v + g_t = 0, M v̇ + Gᵀλ = Q, μ = 0, ṗ = v, ż = f.
+struct ConsistentState {
+  double t{0.0};
+  Vec y, yp;
+};
+
+/// Throws NumericalError when the Newton does not converge or the constraints are redundant
+/// (rank-deficient G, singular augmented matrix), InputError for bad specs.
+ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, double t0,
+                                       const InitialConditionSpec& spec);
+
+/// Recomputes v̇, λ (μ = 0), ṗ = v and ż at fixed (p, v, z): used after events and restarts.
+void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double t, Vec* y,
+                                  Vec* yp);
+
+/// Convenience for building guesses: writes a body's frame pose / velocity into p / v.
+void SetBodyPose(const Mechanism& model, BodyId body, const Vec2& origin, double angle, Vec* p);
+void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,
+                     double angular_velocity, Vec* v);
+
+// ---- the DAE adapter ------------------------------------------------------------------------------
+struct IndexEventSpec {
+  BodyId body;          ///< whose frame angle θ is watched
+  double angle{0.0};    ///< θ_index [rad]; events at θ = θ_index + 2πk
+};
+
+/// The mechanism DAE seen by IdaIntegrator. Roots: the element roots, then (optionally) the
+/// index root sin((θ − θ_index)/2), which changes sign exactly at θ = θ_index + 2πk.
+class MechanismDae final : public DaeSystem {
+ public:
+  MechanismDae(const Mechanism& model, RunData* data, std::optional<IndexEventSpec> index,
+               double velocity_tol_scale = 1.0, double energy_tol_scale = 1.0);
+  int size() const override { return model_.size(); }
+  int num_roots() const override;
+  void DifferentialMask(double* id) const override;
+  void AbsoluteToleranceScales(double* scales) const override;
+  int Residual(double t, const double* y, const double* yp, double* r) override;
+  int Jacobian(double t, double cj, const double* y, const double* yp, double* jac) override;
+  SparsityPattern JacobianPattern() const override;
+  int Roots(double t, const double* y, const double* yp, double* g) override;
+  int index_root() const;  ///< position of the index root, −1 if none
+
+ private:
+  const Mechanism& model_;
+  RunData* data_;
+  std::optional<IndexEventSpec> index_;
+  double velocity_tol_scale_, energy_tol_scale_;
+};
+
+// ---- run loop -------------------------------------------------------------------------------------
+struct SimulationOptions {
+  double t_start{0.0};          ///< [s]
+  double t_end{1.0};            ///< [s], > t_start
+  double sample_rate{1e5};      ///< output rate [Hz], > 0
+  double sample_start{0.0};     ///< first sample time [s] (samples on t = sample_start + k/rate)
+  /// If true, the sample grid starts at the first index crossing at or after sample_start
+  /// (rig-style triggered capture; needs index_event).
+  bool start_sampling_at_index{false};
+  std::optional<IndexEventSpec> index_event;
+  IntegratorOptions integrator;
+  long max_steps{0};            ///< integrator steps allowed for the run; 0 = unlimited
+  double velocity_tol_scale{1.0};  ///< abs tolerance of v = abs_tol · this [1/s], > 0
+  double energy_tol_scale{1.0};    ///< abs tolerance of the energy quadratures = abs_tol · this, > 0
+  void Validate(const Mechanism& model) const;
+};
+
+struct IndexCrossing {
+  double t{0.0};          ///< [s]
+  long revolution{0};     ///< k in θ = θ_index + 2πk
+  double speed{0.0};      ///< θ̇ at the crossing [rad/s]
+};
+
+/// One output sample: the state, its derivative, and lazily computed queries.
+class SampleView {
+ public:
+  SampleView(const Mechanism& model, RunData* data, double t, const double* y, const double* yp);
+  double t() const { return t_; }
+  const Mechanism& model() const { return model_; }
+  RunData& data() const { return *data_; }
+  const double* y() const { return y_; }
+  const double* yp() const { return yp_; }
+  double coordinate(int i) const { return y_[i]; }                                  ///< p_i
+  double velocity(int i) const { return y_[model_.num_coordinates() + i]; }         ///< v_i
+  double acceleration(int i) const { return yp_[model_.num_coordinates() + i]; }    ///< v̇_i
+  const MarkerKinematics& Marker(MarkerId m) const;
+  Vec2 MarkerAcceleration(MarkerId m) const;
+  JointReaction Reaction(JointId j) const;
+  DriverState Driver(DriverId d) const;
+  ElementReport Element(ElementId e) const;
+  EnergyReport Energies() const;
+  double ConstraintViolation() const;
+
+ private:
+  void Ready() const;
+  const Mechanism& model_;
+  RunData* data_;
+  double t_;
+  const double* y_;
+  const double* yp_;
+  mutable bool ready_{false};
+};
+
+struct SimulationCallbacks {
+  std::function<void(const SampleView&)> on_sample;
+  std::function<void(const IndexCrossing&, const SampleView&)> on_index;
+};
+
+enum class SimulationOutcome {
+  kCompleted,
+  kIntegratorFailure,        ///< IDA gave up (status has time, state, hint)
+  kStepLimit,                ///< options.max_steps reached
+  kInitialConditionFailure,  ///< no consistent initial state
+};
+const char* ToString(SimulationOutcome outcome);
+
+struct SimulationStatus {
+  SimulationOutcome outcome{SimulationOutcome::kCompleted};
+  double t_reached{0.0};          ///< last time the integrator reached [s]
+  std::string message;            ///< what went wrong (IDA flag and message)
+  std::string hint;               ///< what to try
+  double norm_coordinates{0.0};   ///< |p|₂ at t_reached
+  double norm_velocities{0.0};    ///< |v|₂
+  double norm_multipliers{0.0};   ///< |λ|₂
+  int worst_residual_index{-1};   ///< unknown with the largest |F_i| at t_reached
+  std::string worst_residual_variable;
+  double worst_residual{0.0};
+  int worst_error_index{-1};      ///< unknown with the largest weighted local error estimate
+  std::string worst_error_variable;
+  double worst_weighted_error{0.0};
+  long num_samples{0};
+  std::vector<IndexCrossing> index_crossings;
+  IntegratorStats stats;
+  LinearSolverKind linear_solver{LinearSolverKind::kDense};
+  double wall_seconds{0.0};       ///< whole run [s]
+  double output_seconds{0.0};     ///< dense output + observer callbacks [s]
+  bool ok() const { return outcome == SimulationOutcome::kCompleted; }
+  std::string Summary() const;
+};
+
+/// Runs from a consistent state (state.t is the start time; options.t_start is ignored).
+SimulationStatus Simulate(const Mechanism& model, RunData* data, const ConsistentState& state,
+                          const SimulationOptions& options, const SimulationCallbacks& callbacks);
+/// Computes the consistent state at options.t_start first.
+SimulationStatus Simulate(const Mechanism& model, RunData* data, const InitialConditionSpec& ic,
+                          const SimulationOptions& options, const SimulationCallbacks& callbacks);
+
+}  // namespace flexrod::multibody

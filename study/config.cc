@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "study/config.h"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace flexrod {
+
+const ParamDef* FindParam(const std::string& key) {
+  for (const ParamDef& p : Schema()) {
+    if (p.key == key) return &p;
+  }
+  return nullptr;
+}
+
+namespace {
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+const ParamDef& Lookup(const std::string& key) {
+  const ParamDef* p = FindParam(key);
+  if (!p) {
+    // Suggest keys sharing the section for the message.
+    const std::string section = key.substr(0, key.find('.'));
+    std::vector<std::string> near;
+    for (const ParamDef& q : Schema()) {
+      if (q.key.rfind(section + ".", 0) == 0) near.push_back(q.key);
+    }
+    throw InputError(key, "(any)", near.empty() ? "unknown key" : "unknown key; known in this section: " + Join(near));
+  }
+  return *p;
+}
+
+/// Checks a text value against its definition; returns normalised text.
+void CheckValue(const ParamDef& p, const std::string& text) {
+  switch (p.kind) {
+    case ParamKind::kQuantity:
+      (void)ParseQuantity(p.key, text, p.dim);
+      return;
+    case ParamKind::kInteger: {
+      const double v = ParseQuantity(p.key, text, Dimension::kDimensionless);
+      if (v != std::floor(v)) throw InputError(p.key, text, "must be an integer");
+      return;
+    }
+    case ParamKind::kBool:
+      if (text != "true" && text != "false") throw InputError(p.key, text, "must be true or false");
+      return;
+    case ParamKind::kChoice:
+      if (std::find(p.choices.begin(), p.choices.end(), text) == p.choices.end()) {
+        throw InputError(p.key, text, "must be one of " + Join(p.choices));
+      }
+      return;
+    case ParamKind::kText:
+      return;
+  }
+}
+
+std::string NodeText(const toml::node& node, const std::string& key) {
+  if (auto s = node.as_string()) return s->get();
+  if (auto i = node.as_integer()) return std::to_string(i->get());
+  if (auto d = node.as_floating_point()) {
+    std::ostringstream os;
+    os.precision(17);
+    os << d->get();
+    return os.str();
+  }
+  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
+  if (auto a = node.as_array()) {
+    std::string s;
+    for (size_t i = 0; i < a->size(); ++i) s += (i ? "," : "") + NodeText(*a->get(i), key);
+    return s;
+  }
+  throw InputError(key, "(table or date)", "must be a number, string, boolean or array");
+}
+
+void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
+  for (const auto& [k, v] : t) {
+    const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const toml::table* sub = v.as_table()) {
+      Flatten(*sub, key, cfg);
+    } else {
+      cfg->Set(key, NodeText(v, key));
+    }
+  }
+}
+
+}  // namespace
+
+void Config::Set(const std::string& key, const std::string& text) {
+  const ParamDef& p = Lookup(key);
+  CheckValue(p, text);
+  values_[key] = text;
+}
+
+void Config::SetAssignment(const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError("--set", assignment, "must have the form key=value");
+  }
+  std::string value = assignment.substr(eq + 1);
+  if (value.size() >= 2 && value.front() == '"' && value.back() == '"') value = value.substr(1, value.size() - 2);
+  Set(assignment.substr(0, eq), value);
+}
+
+void Config::LoadToml(const std::string& toml_text, const std::string& origin) {
+  toml::table t;
+  try {
+    t = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << e.description() << " at line " << e.source().begin.line << ", column " << e.source().begin.column;
+    throw InputError(origin, "(file)", "malformed TOML: " + os.str());
+  }
+  Flatten(t, "", this);
+}
+
+void Config::LoadTomlFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("input file", path, "cannot be read (does it exist?)");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  LoadToml(ss.str(), path);
+}
+
+std::string Config::Raw(const std::string& key) const {
+  const ParamDef& p = Lookup(key);
+  auto it = values_.find(key);
+  return it != values_.end() ? it->second : p.default_text;
+}
+
+double Config::Quantity(const std::string& key) const {
+  const ParamDef& p = Lookup(key);
+  FLEXROD_ASSERT(p.kind == ParamKind::kQuantity);
+  return ParseQuantity(key, Raw(key), p.dim);
+}
+
+int Config::Integer(const std::string& key) const {
+  return static_cast<int>(ParseQuantity(key, Raw(key), Dimension::kDimensionless));
+}
+
+bool Config::Bool(const std::string& key) const { return Raw(key) == "true"; }
+
+std::string Config::Text(const std::string& key) const { return Raw(key); }
+
+std::vector<Config::Resolved> Config::Resolve() const {
+  std::vector<Resolved> out;
+  for (const ParamDef& p : Schema()) {
+    Resolved r;
+    r.key = p.key;
+    r.is_default = !IsSet(p.key);
+    const std::string raw = Raw(p.key);
+    if (p.kind == ParamKind::kQuantity) {
+      std::ostringstream os;
+      os.precision(12);
+      os << ParseQuantity(p.key, raw, p.dim);
+      r.value = os.str();
+      r.unit = SiUnit(p.dim);
+    } else if (p.kind == ParamKind::kInteger) {
+      r.value = std::to_string(Integer(p.key));
+      r.unit = "1";
+    } else {
+      r.value = raw;
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::string Config::ResolvedToml() const {
+  std::ostringstream os;
+  os << "# flexrod resolved input: every key, SI values; '# default' marks values not set by the user\n";
+  std::string section;
+  for (const Resolved& r : Resolve()) {
+    const size_t dot = r.key.rfind('.');
+    const std::string sec = r.key.substr(0, dot);
+    if (sec != section) {
+      os << "\n[" << sec << "]\n";
+      section = sec;
+    }
+    const ParamDef* p = FindParam(r.key);
+    const bool quoted = p->kind == ParamKind::kChoice || p->kind == ParamKind::kText;
+    os << r.key.substr(dot + 1) << " = " << (quoted ? "\"" + r.value + "\"" : r.value);
+    os << "  # " << (r.unit.empty() ? "" : "[" + r.unit + "] ") << (r.is_default ? "default" : "set") << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace flexrod

@@ -1,0 +1,65 @@
+// study/config.h — the one input layer of flexrod. Every input (a preset, a TOML file,
+// `--set key=value`, command-line flags) becomes a dotted key ("rod.height") with a text
+// value; a schema of known keys gives each its dimension, default, allowed choices and doc.
+// Values are converted to SI once, here. Unknown keys, wrong types and values outside the
+// allowed set throw InputError naming key, value and rule — before any work starts.
+// The resolved input (every key, defaults filled in, SI value and unit) is written with every
+// result. What does not live here: what the keys mean (the builders that read them).
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/units.h"
+
+namespace flexrod {
+
+enum class ParamKind { kQuantity, kInteger, kChoice, kText, kBool };
+
+struct ParamDef {
+  std::string key;
+  ParamKind kind{ParamKind::kQuantity};
+  Dimension dim{Dimension::kDimensionless};
+  std::string default_text;          ///< as a user would type it ("19.05 mm")
+  std::string doc;                   ///< one line, with the rule
+  std::vector<std::string> choices;  ///< for kChoice
+};
+
+/// The schema: every key flexrod accepts, in documentation order.
+const std::vector<ParamDef>& Schema();
+const ParamDef* FindParam(const std::string& key);
+
+class Config {
+ public:
+  /// Sets a key from text. Throws InputError for unknown keys or values that do not parse.
+  void Set(const std::string& key, const std::string& text);
+  /// "key=value" as given to --set.
+  void SetAssignment(const std::string& assignment);
+  /// Loads a TOML document (tables flatten to dotted keys). `origin` names it in errors.
+  void LoadToml(const std::string& toml_text, const std::string& origin);
+  void LoadTomlFile(const std::string& path);
+
+  bool IsSet(const std::string& key) const { return values_.count(key) > 0; }
+  /// SI value of a quantity key (default if unset).
+  double Quantity(const std::string& key) const;
+  int Integer(const std::string& key) const;
+  bool Bool(const std::string& key) const;
+  std::string Text(const std::string& key) const;  ///< choice or text keys
+
+  /// Every schema key with its resolved value: (key, text as SI or choice, unit).
+  struct Resolved {
+    std::string key, value, unit;
+    bool is_default;
+  };
+  std::vector<Resolved> Resolve() const;
+  /// The resolved input as TOML text (SI numbers, units in comments).
+  std::string ResolvedToml() const;
+
+ private:
+  std::string Raw(const std::string& key) const;
+  std::map<std::string, std::string> values_;
+};
+
+}  // namespace flexrod

@@ -1,0 +1,336 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "study/run.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/files.h"
+#include "study/signals.h"
+
+namespace flexrod {
+namespace {
+
+using multibody::SampleView;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+std::vector<double> ParseList(const std::string& key, const std::string& text, Dimension dim) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(ParseQuantity(key, item, dim));
+  }
+  return out;
+}
+
+/// Channel recorder: names, units and a function per sample, filled in the capture window.
+class Recorder {
+ public:
+  using Fn = std::function<double(const SampleView&)>;
+  void Add(std::string name, std::string unit, Fn fn) {
+    names_.push_back(std::move(name));
+    units_.push_back(std::move(unit));
+    fns_.push_back(std::move(fn));
+    values_.emplace_back();
+  }
+  void Record(const SampleView& s) {
+    if (values_.empty() || values_[0].empty()) first_t_ = s.t();
+    for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s));
+  }
+  size_t size() const { return values_.empty() ? 0 : values_[0].size(); }
+  study::TimeSeries Finish(double rate) {
+    study::TimeSeries ts(rate, size() ? first_t_ : 0.0);
+    for (size_t i = 0; i < fns_.size(); ++i) ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
+    return ts;
+  }
+
+ private:
+  std::vector<std::string> names_, units_;
+  std::vector<Fn> fns_;
+  std::vector<std::vector<double>> values_;
+  double first_t_{0.0};
+};
+
+void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json) {
+  const multibody::Mechanism& m = mm.mechanism;
+  const auto conrod = mm.conrod;
+  const int rod_theta = m.coordinate(conrod, multibody::kTheta);
+  if (!mm.is_pendulum) {
+    const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
+    const int sx = m.coordinate(mm.slider, multibody::kX);
+    const auto driver = mm.driver;
+    rec->Add("crank_angle", "rad", [=](const SampleView& s) { return s.coordinate(crank_theta); });
+    rec->Add("crank_speed", "rad/s", [=](const SampleView& s) { return s.velocity(crank_theta); });
+    rec->Add("crank_torque", "N*m", [=](const SampleView& s) { return s.Driver(driver).torque; });
+    rec->Add("slider_position", "m", [=](const SampleView& s) { return s.coordinate(sx); });
+    rec->Add("slider_velocity", "m/s", [=](const SampleView& s) { return s.velocity(sx); });
+    rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s) { return s.acceleration(sx); });
+    const auto big = mm.big_end_joint;
+    // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
+    rec->Add("big_end_force_x", "N", [=](const SampleView& s) { return s.Reaction(big).force_j.x(); });
+    rec->Add("big_end_force_y", "N", [=](const SampleView& s) { return s.Reaction(big).force_j.y(); });
+    const auto small = mm.small_end_joint;
+    // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
+    rec->Add("bearing_force_x", "N", [=](const SampleView& s) { return s.Reaction(small).force_i.x(); });
+    rec->Add("bearing_force_y", "N", [=](const SampleView& s) { return s.Reaction(small).force_i.y(); });
+    rec->Add("bearing_force", "N", [=](const SampleView& s) { return s.Reaction(small).force_i.norm(); });
+  } else {
+    rec->Add("rod_angle", "rad", [=](const SampleView& s) { return s.coordinate(rod_theta); });
+    rec->Add("rod_angular_velocity", "rad/s", [=](const SampleView& s) { return s.velocity(rod_theta); });
+  }
+  if (mm.rod) {
+    const fem::ReducedRod& rod = *mm.rod;
+    const int n = rod.num_coordinates();
+    const int q0 = m.coordinate(conrod, multibody::kFirstMode);
+    // Deflection probe: node nearest to output.midspan (0 = midspan), relative to the chord.
+    double x_probe = cfg.Quantity("output.midspan");
+    if (x_probe <= 0.0) x_probe = 0.5 * rod.rod.length;
+    const int probe = static_cast<int>(std::lround(x_probe / rod.rod.element_length()));
+    const int last = rod.rod.num_nodes() - 1;
+    const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
+    rec->Add("rod_deflection", "m", [=](const SampleView& s) {
+      const Eigen::Map<const Vec> q(s.y() + q0, n);
+      auto pos = [&](int k) -> Vec2 { return keep->nodes[k].position + keep->nodes[k].S_u * q; };
+      const Vec2 a = pos(0), b = pos(last), c = pos(probe);
+      const Vec2 chord = (b - a).normalized();
+      return chord.x() * (c - a).y() - chord.y() * (c - a).x();  // signed distance from the chord
+    });
+    const double E = rod.rod.material.youngs_modulus;
+    const double y = rod.rod.section.half_depth_in_plane();
+    const std::vector<double> xs = ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
+    for (size_t g = 0; g < xs.size(); ++g) {
+      const std::string name = "gauge" + std::to_string(g + 1);
+      const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
+      const RowVec strain_row = rows.axial + rows.bending;
+      rec->Add("strain_" + name, "1", [=](const SampleView& s) {
+        return strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
+      });
+      rec->Add("stress_" + name, "Pa", [=](const SampleView& s) {
+        return E * strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
+      });
+      (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
+    }
+    for (int k = 0; k < n; ++k) {
+      rec->Add("q" + std::to_string(k + 1), "1", [=](const SampleView& s) { return s.coordinate(q0 + k); });
+    }
+  }
+  rec->Add("energy_kinetic", "J", [](const SampleView& s) { return s.Energies().kinetic; });
+  rec->Add("energy_strain", "J", [](const SampleView& s) { return s.Energies().strain; });
+  rec->Add("energy_dissipated", "J", [](const SampleView& s) {
+    const auto e = s.Energies();
+    return e.dissipated_elements + e.dissipated_damping;
+  });
+  rec->Add("driver_work", "J", [](const SampleView& s) { return s.Energies().driver_work; });
+  rec->Add("energy_balance_error", "J", [](const SampleView& s) { return s.Energies().balance_error; });
+  rec->Add("constraint_violation", "m", [](const SampleView& s) { return s.ConstraintViolation(); });
+}
+
+multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
+  multibody::SimulationOptions o;
+  o.sample_rate = cfg.Quantity("sim.sample_rate");
+  RequirePositive("sim.sample_rate", o.sample_rate);
+  o.integrator.rel_tol = cfg.Quantity("sim.rel_tol");
+  o.integrator.abs_tol = cfg.Quantity("sim.abs_tol");
+  o.integrator.max_step = cfg.Quantity("sim.max_step");
+  const std::string ls = cfg.Text("sim.linear_solver");
+  o.integrator.linear_solver = ls == "dense"  ? multibody::LinearSolverKind::kDense
+                               : ls == "klu" ? multibody::LinearSolverKind::kKlu
+                                             : multibody::LinearSolverKind::kAuto;
+  o.integrator.Validate();
+  return o;
+}
+
+nlohmann::json StatusJson(const multibody::SimulationStatus& st) {
+  return {{"outcome", multibody::ToString(st.outcome)},
+          {"t_reached [s]", st.t_reached},
+          {"message", st.message},
+          {"hint", st.hint},
+          {"steps", st.stats.steps},
+          {"residual_evaluations", st.stats.residual_evaluations},
+          {"jacobian_evaluations", st.stats.jacobian_evaluations},
+          {"nonlinear_iterations", st.stats.nonlinear_iterations},
+          {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
+          {"error_test_failures", st.stats.error_test_failures},
+          {"roots_found", st.stats.roots_found},
+          {"linear_solver", multibody::ToString(st.linear_solver)},
+          {"wall_time [s]", st.wall_seconds},
+          {"residual_time [s]", st.stats.residual_seconds},
+          {"jacobian_time [s]", st.stats.jacobian_seconds},
+          {"linear_solve_time [s]", st.stats.linear_solve_seconds},
+          {"output_time [s]", st.output_seconds}};
+}
+
+nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const MechanismModel& mm) {
+  nlohmann::json s;
+  if (ts.num_samples() == 0) return s;
+  const double index_angle = cfg.Quantity("sim.index_angle");
+  for (const study::Channel& c : ts.channels()) {
+    double peak = 0.0, sq = 0.0;
+    for (double v : c.values) {
+      peak = std::max(peak, std::abs(v));
+      sq += v * v;
+    }
+    s["channels"][c.name] = {{"unit", c.unit}, {"peak_abs", peak}, {"rms", std::sqrt(sq / c.values.size())}};
+  }
+  if (!mm.is_pendulum && ts.num_samples() > 2) {
+    const study::SignalSummary a =
+        study::CalcSignalSummary(ts, "slider_acceleration", "crank_angle", index_angle, ts.all());
+    s["slider_acceleration"] = {{"unit", "m/s^2"},
+                                {"peak_positive", a.peak_positive},
+                                {"peak_negative", a.peak_negative},
+                                {"rms", a.rms},
+                                {"revolutions", a.positive.num_revolutions},
+                                {"per_revolution_positive", {{"median", a.positive.median}, {"p95", a.positive.p95}, {"max", a.positive.max}}},
+                                {"per_revolution_negative", {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}}};
+  }
+  if (mm.rod) {
+    double peak_stress = 0.0;
+    for (const study::Channel& c : ts.channels()) {
+      if (c.name.rfind("stress_", 0) == 0) {
+        for (double v : c.values) peak_stress = std::max(peak_stress, std::abs(v));
+      }
+    }
+    const double yield = mm.rod->rod.material.yield_strength;
+    s["rod"] = {{"peak_gauge_stress [Pa]", peak_stress},
+                {"yield_strength [Pa]", yield},
+                {"safety_factor", peak_stress > 0.0 ? nlohmann::json(yield / peak_stress) : nlohmann::json(nullptr)},
+                {"frequencies [Hz]", std::vector<double>(mm.rod->frequencies_hz.data(),
+                                                         mm.rod->frequencies_hz.data() + mm.rod->frequencies_hz.size())}};
+  }
+  const auto& eb = ts.values("energy_balance_error");
+  const auto& ek = ts.values("energy_kinetic");
+  double worst = 0.0, scale = 0.0;
+  for (size_t i = 0; i < eb.size(); ++i) {
+    worst = std::max(worst, std::abs(eb[i]));
+    scale = std::max(scale, std::abs(ek[i]));
+  }
+  s["energy"] = {{"max_balance_error [J]", worst}, {"max_kinetic [J]", scale},
+                 {"relative_balance_error", scale > 0 ? worst / scale : 0.0}};
+  const auto& cv = ts.values("constraint_violation");
+  double drift = 0.0;
+  for (double v : cv) drift = std::max(drift, v);
+  s["max_constraint_violation [m]"] = drift;
+  return s;
+}
+
+}  // namespace
+
+RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
+  const multibody::Mechanism& m = mm.mechanism;
+  multibody::SimulationOptions opt = OptionsFromConfig(cfg);
+  const double settle = cfg.Quantity("sim.settle");
+  const double capture = cfg.Quantity("sim.capture");
+  RequireNonNegative("sim.settle", settle);
+  RequirePositive("sim.capture", capture);
+  const std::string start = cfg.Text("sim.start");
+
+  multibody::InitialConditionSpec ic;
+  ic.coordinates = mm.p0;
+  ic.velocities = Vec::Zero(m.num_coordinates());
+  ic.elastic = start == "static" ? multibody::ElasticInitialState::kStaticEquilibrium
+                                 : multibody::ElasticInitialState::kUndeformed;
+  double t_capture_start = settle;
+  if (!mm.is_pendulum) {
+    const int ct = m.coordinate(mm.crank, multibody::kTheta);
+    const double w0 = cfg.Text("drive.type") == "constant" ? cfg.Quantity("drive.speed") : 0.0;
+    ic.velocities[ct] = w0;
+    if (cfg.Text("drive.type") == "motor") {  // constraint drivers fix the crank themselves
+      ic.fixed_coordinates = {ct};
+      ic.fixed_velocities = {ct};
+    }
+    opt.index_event = multibody::IndexEventSpec{mm.crank, cfg.Quantity("sim.index_angle")};
+    opt.start_sampling_at_index = true;
+    if (cfg.Text("drive.type") == "constant") {
+      // Exact index time: θ0 + ω t = θ_index + 2πk, first k with t ≥ settle.
+      const double theta0 = cfg.Quantity("drive.initial_angle"), idx = cfg.Quantity("sim.index_angle");
+      const double k = std::ceil((theta0 + w0 * settle - idx) / kTwoPi - 1e-12);
+      t_capture_start = (idx + kTwoPi * k - theta0) / w0;
+    } else {
+      t_capture_start = settle + 0.0;  // the index event starts the grid; allow one extra revolution
+    }
+  } else {
+    ic.fixed_coordinates = {m.coordinate(mm.conrod, multibody::kTheta)};
+    ic.fixed_velocities = {m.coordinate(mm.conrod, multibody::kTheta)};
+  }
+  opt.t_start = 0.0;
+  opt.sample_start = settle;
+  opt.t_end = t_capture_start + capture;
+  if (!mm.is_pendulum && cfg.Text("drive.type") != "constant") opt.t_end += 1.0;  // wait for the index
+  opt.Validate(m);
+
+  Recorder rec;
+  nlohmann::json gauges;
+  DefineChannels(cfg, mm, &rec, &gauges);
+  multibody::RunData data(m);
+  const double rate = opt.sample_rate;
+  const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
+  multibody::SimulationCallbacks cb;
+  cb.on_sample = [&](const SampleView& s) {
+    if (static_cast<long>(rec.size()) < max_samples) rec.Record(s);
+  };
+
+  RunResult out;
+  if (start == "steady" && !mm.is_pendulum) {
+    // Periodic steady state: revolution by revolution until the elastic state at the index
+    // repeats (relative change < 1e-6), then the capture is recorded from there.
+    multibody::ConsistentState state = multibody::ComputeConsistentState(m, &data, 0.0, ic);
+    const double w = cfg.Quantity("drive.speed");
+    const int q0 = m.coordinate(mm.conrod, multibody::kFirstMode);
+    const int n = mm.rod ? mm.rod->num_coordinates() : 0;
+    Vec previous = Vec::Zero(2 * n);
+    multibody::SimulationOptions rev = opt;
+    rev.start_sampling_at_index = false;
+    rev.sample_rate = 1.0 / (kTwoPi / w);  // one sample per revolution
+    bool converged = false;
+    for (int r = 0; r < 400 && !converged; ++r) {
+      rev.sample_start = state.t + kTwoPi / w;
+      rev.t_end = state.t + kTwoPi / w;
+      multibody::ConsistentState next;
+      multibody::SimulationCallbacks c2;
+      c2.on_sample = [&](const SampleView& s) {
+        next.t = s.t();
+        next.y = Eigen::Map<const Vec>(s.y(), m.size());
+        next.yp = Eigen::Map<const Vec>(s.yp(), m.size());
+      };
+      out.status = multibody::Simulate(m, &data, state, rev, c2);
+      if (!out.status.ok() || next.y.size() == 0) break;
+      Vec now(2 * n);
+      now << next.y.segment(q0, n), next.y.segment(m.num_coordinates() + q0, n);
+      converged = (now - previous).norm() <= 1e-6 * std::max(now.norm(), 1e-30);
+      previous = now;
+      state = next;
+    }
+    if (out.status.ok()) {
+      opt.sample_start = state.t;
+      opt.t_end = state.t + capture;
+      opt.start_sampling_at_index = false;
+      out.status = multibody::Simulate(m, &data, state, opt, cb);
+    }
+  } else {
+    out.status = multibody::Simulate(m, &data, ic, opt, cb);
+  }
+  out.channels = rec.Finish(rate);
+  out.summary = Summarise(out.channels, cfg, mm);
+  out.summary["gauges"] = gauges;
+  out.summary["integrator"] = StatusJson(out.status);
+  out.summary["samples"] = out.channels.num_samples();
+  out.summary["capture_start [s]"] = out.channels.num_samples() ? out.channels.start_time() : 0.0;
+  out.summary["wall_time [s]"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return out;
+}
+
+void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run) {
+  EnsureDirectory("--out", dir);
+  WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml());
+  study::WriteCsv(run.channels, dir + "/channels.csv");
+  WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
+}
+
+}  // namespace flexrod

@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "study/slider_crank.h"
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "common/error.h"
+#include "study/rod_config.h"
+
+namespace flexrod {
+namespace {
+
+using multibody::BodyId;
+using multibody::MarkerId;
+
+Mat2 Rotation(double angle) {
+  Mat2 A;
+  A << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  return A;
+}
+
+multibody::DampingSpec DampingFromConfig(const Config& cfg) {
+  const std::string type = cfg.Text("damping.type");
+  multibody::DampingSpec d;
+  if (type == "band") {
+    d = multibody::DampingSpec::FrequencyBand();
+  } else if (type == "ratio") {
+    const double zeta = cfg.Quantity("damping.ratio");
+    RequireNonNegative("damping.ratio", zeta);
+    d = zeta > 0.0 ? multibody::DampingSpec::ModalRatio({zeta}) : multibody::DampingSpec::None();
+  } else {
+    d = multibody::DampingSpec::Rayleigh(cfg.Quantity("damping.alpha"), cfg.Quantity("damping.beta"));
+  }
+  return d;
+}
+
+std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
+  std::vector<std::pair<double, double>> knots;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const size_t colon = item.find(':');
+    if (colon == std::string::npos) {
+      throw InputError("drive.profile", text, "must be comma-separated time:speed pairs (s:rpm)");
+    }
+    const double t = ParseQuantity("drive.profile", item.substr(0, colon), Dimension::kTime);
+    const double rpm = ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
+    knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
+  }
+  if (knots.size() < 2) throw InputError("drive.profile", text, "needs at least two time:speed pairs");
+  return knots;
+}
+
+}  // namespace
+
+std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
+  if (cfg.Text("rod.type") != "flexible") return nullptr;
+  fem::RodSpec rod = RodFromConfig(cfg);
+  const double big_mass = cfg.Quantity("clamp.big_mass");
+  const double small_mass = cfg.Quantity("clamp.small_mass");
+  RequireNonNegative("clamp.big_mass", big_mass);
+  RequireNonNegative("clamp.small_mass", small_mass);
+  RequireNonNegative("clamp.big_inertia", cfg.Quantity("clamp.big_inertia"));
+  RequireNonNegative("clamp.small_inertia", cfg.Quantity("clamp.small_inertia"));
+  if (big_mass > 0.0 || cfg.Quantity("clamp.big_inertia") > 0.0) {
+    rod.attachments.push_back({"big-end clamp", 0, big_mass, cfg.Quantity("clamp.big_inertia"), Vec2::Zero()});
+  }
+  if (small_mass > 0.0 || cfg.Quantity("clamp.small_inertia") > 0.0) {
+    rod.attachments.push_back({"small-end clamp", rod.num_elements, small_mass,
+                               cfg.Quantity("clamp.small_inertia"),
+                               Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
+  }
+  rod.Validate();
+  const fem::ReductionSpec spec = MechanismReductionFromConfig(cfg, rod);
+  return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
+}
+
+MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
+                              bool ideal_joint) {
+  MechanismModel out;
+  multibody::MechanismBuilder b;
+  const bool flexible = cfg.Text("rod.type") == "flexible";
+  if (flexible && !rod) rod = BuildReducedRod(cfg);
+  out.rod = rod;
+  const double length = cfg.Quantity("rod.length");
+  RequirePositive("rod.length", length);
+  const Vec2 big_offset(cfg.Quantity("rod.big_end_x"), cfg.Quantity("rod.big_end_y"));
+  const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
+  const int last_node = flexible ? rod->rod.num_nodes() - 1 : 0;
+  // Joint-to-joint vector in the rod frame (undeformed).
+  const Vec2 big_point = big_offset;
+  const Vec2 small_point = Vec2(length, 0.0) + small_offset;
+  const Vec2 d = small_point - big_point;
+  out.effective_length = d.norm();
+
+  // ---- the connecting rod ----
+  if (flexible) {
+    multibody::FlexibleBodySpec fs;
+    fs.name = "rod";
+    fs.rod = rod;
+    fs.damping = DampingFromConfig(cfg);
+    fs.geometric_stiffening = cfg.Bool("rod.geometric_stiffening");
+    out.conrod = b.AddFlexibleBody(fs);
+    out.big_end = b.AddNodeMarker(out.conrod, "big-end", 0, big_offset);
+    out.small_end = b.AddNodeMarker(out.conrod, "small-end", last_node, small_offset);
+  } else {
+    double mass = cfg.Quantity("rod.rigid_mass");
+    double inertia = cfg.Quantity("rod.rigid_inertia");
+    if (mass == 0.0) {
+      const fem::RodSpec spec = RodFromConfig(cfg);
+      mass = spec.material.density * spec.section.area() * length;
+    }
+    if (inertia == 0.0) inertia = mass * length * length / 12.0;
+    RequirePositive("rod.rigid_mass", mass);
+    out.conrod = b.AddRigidBody({"rod", mass, inertia, Vec2(0.5 * length, 0.0)});
+    out.big_end = b.AddBodyMarker(out.conrod, "big-end", big_offset);
+    out.small_end = b.AddBodyMarker(out.conrod, "small-end", small_point);
+  }
+
+  if (cfg.Bool("gravity.enabled")) b.SetGravity(Vec2(cfg.Quantity("gravity.x"), cfg.Quantity("gravity.y")));
+
+  if (cfg.Text("mechanism.type") == "pendulum") {
+    // Rod pinned at the big-end point to the ground at the origin, released horizontally.
+    out.is_pendulum = true;
+    const MarkerId pivot = b.AddGroundMarker("pivot", Vec2::Zero());
+    out.big_end_joint = b.AddRevolute("pivot", pivot, out.big_end);
+    out.mechanism = b.Build();
+    out.p0 = Vec::Zero(out.mechanism.num_coordinates());
+    const Vec2 R = -big_offset;
+    out.p0[out.mechanism.coordinate(out.conrod, multibody::kX)] = R.x();
+    out.p0[out.mechanism.coordinate(out.conrod, multibody::kY)] = R.y();
+    return out;
+  }
+
+  // ---- crank ----
+  const double r = cfg.Quantity("crank.length");
+  RequirePositive("crank.length", r);
+  out.crank_length = r;
+  const double crank_mass = cfg.Quantity("crank.mass");
+  const double crank_inertia = cfg.Quantity("crank.inertia");
+  RequirePositive("crank.mass", crank_mass);
+  RequireNonNegative("crank.inertia", crank_inertia);
+  out.crank = b.AddRigidBody({"crank", crank_mass, crank_inertia, Vec2::Zero()});
+  const MarkerId origin = b.AddGroundMarker("ground-axis", Vec2::Zero());
+  const MarkerId crank_axis = b.AddBodyMarker(out.crank, "crank-axis", Vec2::Zero());
+  out.crank_pin = b.AddBodyMarker(out.crank, "crank-pin", Vec2(r, 0.0));
+  out.crank_pivot_joint = b.AddRevolute("crank-pivot", origin, crank_axis);
+  out.big_end_joint = b.AddRevolute("big-end", out.crank_pin, out.big_end);
+
+  // ---- slider on its guide ----
+  const double slider_mass = cfg.Quantity("slider.mass");
+  RequirePositive("slider.mass", slider_mass);
+  const double e = cfg.Quantity("slider.offset");
+  if (!(out.effective_length > r + std::abs(e))) {
+    throw InputError("rod.length", FormatValue(length),
+                     "the joint-to-joint length (" + FormatValue(out.effective_length) +
+                         " m) must exceed crank.length + |slider.offset| (" + FormatValue(r + std::abs(e)) +
+                         " m) for the crank to turn");
+  }
+  out.slider = b.AddRigidBody({"slider", slider_mass, 0.0, Vec2::Zero()});
+  out.journal = b.AddBodyMarker(out.slider, "journal", Vec2::Zero());
+  const MarkerId guide = b.AddGroundMarker("guide", Vec2(0.0, e));
+  multibody::PrismaticSpec ps;
+  ps.name = "guide";
+  ps.marker_i = guide;
+  ps.marker_j = out.journal;
+  ps.axis = Vec2(1.0, 0.0);
+  ps.damping = cfg.Quantity("slider.damping");
+  ps.friction_force = cfg.Quantity("slider.friction");
+  ps.friction_regularisation_speed = cfg.Quantity("slider.friction_velocity");
+  out.guide_joint = b.AddPrismatic(ps);
+
+  if (ideal_joint || cfg.Text("joint.type") == "ideal") {
+    out.small_end_joint = b.AddRevolute("small-end", out.small_end, out.journal);
+  } else {
+    throw InputError("joint.type", cfg.Text("joint.type"), "the clearance joint is not available in this build");
+  }
+
+  // ---- drive ----
+  const double theta0 = cfg.Quantity("drive.initial_angle");
+  const std::string drive = cfg.Text("drive.type");
+  if (drive == "constant") {
+    const double w = cfg.Quantity("drive.speed");
+    RequirePositive("drive.speed", w);
+    out.driver = b.AddConstantSpeedDriver("drive", out.crank, theta0, w);
+  } else if (drive == "profile") {
+    std::vector<double> times, speeds;
+    for (const auto& [t, w] : ParseProfile(cfg.Text("drive.profile"))) {
+      times.push_back(t);
+      speeds.push_back(w);
+    }
+    out.driver = b.AddSpeedProfileDriver("drive", out.crank, theta0, times, speeds);
+  } else {
+    multibody::DcMotorSpec m;
+    m.stall_torque = cfg.Quantity("motor.stall_torque");
+    m.no_load_speed = cfg.Quantity("motor.no_load_speed");
+    m.ratio = cfg.Quantity("motor.belt_ratio");
+    m.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
+    m.Validate("motor");
+    out.driver = b.AddDcMotorDriver("drive", out.crank, m);
+  }
+  out.mechanism = b.Build();
+
+  // ---- initial configuration of the rigid motion at crank angle θ0 ----
+  const multibody::Mechanism& mech = out.mechanism;
+  Vec p0 = Vec::Zero(mech.num_coordinates());
+  const Vec2 P = r * Vec2(std::cos(theta0), std::sin(theta0));
+  const double ell = out.effective_length;
+  const double xs = P.x() + std::sqrt(ell * ell - (e - P.y()) * (e - P.y()));
+  const Vec2 S(xs, e);
+  const double theta_rod = std::atan2(S.y() - P.y(), S.x() - P.x()) - std::atan2(d.y(), d.x());
+  const Vec2 R = P - Rotation(theta_rod) * big_point;
+  p0[mech.coordinate(out.crank, multibody::kTheta)] = theta0;
+  p0[mech.coordinate(out.conrod, multibody::kX)] = R.x();
+  p0[mech.coordinate(out.conrod, multibody::kY)] = R.y();
+  p0[mech.coordinate(out.conrod, multibody::kTheta)] = theta_rod;
+  p0[mech.coordinate(out.slider, multibody::kX)] = S.x();
+  p0[mech.coordinate(out.slider, multibody::kY)] = S.y();
+  out.p0 = p0;
+  return out;
+}
+
+}  // namespace flexrod

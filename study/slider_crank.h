@@ -1,0 +1,44 @@
+// study/slider_crank.h — builds the mechanisms of flexrod's presets from the input keys:
+// the slider-crank (crank, rigid or flexible rod with clamps and joint offsets, slider on a
+// guide, ideal or clearance small-end joint, drive) and the flexible pendulum. It owns the
+// world layout and the initial configuration guess; the multibody engine knows none of it.
+//
+// World frame W: crank axis at the origin, slider guide along +x at y = slider.offset,
+// positive slider acceleration = away from the crank (RIG.md sign convention).
+// Rod frame B: origin at the big-end clamp node (FE node 0), x along the undeformed rod.
+// Points: p_WO crank axis; p_WC crank pin; p_WJ journal (pin) centre on the slider;
+// p_WK bush centre on the small-end clamp. q_f: the rod's elastic coordinates.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fem/reduced_rod.h"
+#include "multibody/mechanism.h"
+#include "study/config.h"
+
+namespace flexrod {
+
+struct MechanismModel {
+  multibody::Mechanism mechanism;
+  std::shared_ptr<const fem::ReducedRod> rod;   ///< null for a rigid rod
+  multibody::BodyId crank, conrod, slider;      ///< slider-crank bodies (pendulum: conrod only)
+  multibody::MarkerId crank_pin, big_end, small_end, journal;
+  multibody::JointId crank_pivot_joint, big_end_joint, small_end_joint, guide_joint;
+  multibody::DriverId driver;
+  Vec p0;                      ///< initial coordinate guess (consistent for the rigid motion)
+  double crank_length{0.0};    ///< [m]
+  double effective_length{0.0};  ///< crank pin to bush centre, undeformed [m]
+  bool is_pendulum{false};
+};
+
+/// Reduced rod for the run (flexible rod only): rod.*, reduction.*, clamps as attachments.
+std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg);
+
+/// The mechanism for the input. `rod` from BuildReducedRod (null: built here, or rigid rod).
+/// `ideal_joint` forces an ideal small-end joint (the ideal twin of a clearance run).
+MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
+                              bool ideal_joint = false);
+
+}  // namespace flexrod

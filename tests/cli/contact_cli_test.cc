@@ -1,0 +1,119 @@
+// tests/cli/contact_cli_test.cc — `flexrod contact` end to end: the JSON keys and values of one
+// impact, units on the command line, the exit code 2 and no output file for bad input, and the
+// PNG of the force–penetration loop.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code;
+  std::string output;  // stdout + stderr
+};
+
+RunResult RunFlexrod(const std::string& args) {
+  const fs::path log =
+      fs::temp_directory_path() / ("contact_cli_" + std::to_string(getpid()) + ".log");
+  const std::string cmd = std::string(FLEXROD_BINARY) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  fs::remove(log);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
+}
+
+fs::path TempPath(const std::string& name) {
+  return fs::temp_directory_path() /
+         ("flexrod_contact_cli_" + std::to_string(getpid()) + "_" + name);
+}
+
+TEST(ContactCli, JsonHasTheResultKeysAndTheResolvedParameters) {
+  const fs::path json = TempPath("flores.json");
+  const RunResult run = RunFlexrod(
+      "contact --law flores --restitution 0.8 --mass \"2.71 kg\" "
+      "--velocity \"500 mm/s\" --pin-radius \"9.025 mm\" --json " +
+      json.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("achieved restitution"), std::string::npos);
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  fs::remove(json);
+  for (const char* key : {"achieved_restitution", "peak_force", "peak_penetration",
+                          "contact_duration", "law", "parameters", "units"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["law"], "flores");
+  // Flores reaches the input restitution within 0.05 (tests/contact/impact_reftest.cc).
+  EXPECT_NEAR(j["achieved_restitution"].get<double>(), 0.8, 0.05);
+  EXPECT_GT(j["peak_force"].get<double>(), 0.0);
+  EXPECT_GT(j["peak_penetration"].get<double>(), 0.0);
+  EXPECT_LT(j["peak_penetration"].get<double>(), 1e-4);  // micrometres for steel on steel
+  EXPECT_GT(j["contact_duration"].get<double>(), 0.0);
+  EXPECT_EQ(j["units"]["peak_force"], "N");
+  bool saw_stiffness = false;
+  for (const auto& p : j["parameters"]) {
+    if (p["name"] == "stiffness") {
+      saw_stiffness = true;
+      EXPECT_EQ(p["unit"], "N/m^1.5");
+    }
+    EXPECT_TRUE(p.contains("value") && p.contains("unit") && p.contains("source"));
+  }
+  EXPECT_TRUE(saw_stiffness);
+  EXPECT_NEAR(j["inputs"]["velocity"]["value"].get<double>(), 0.5, 1e-15);
+}
+
+TEST(ContactCli, UnknownLawExitsWithCode2AndWritesNothing) {
+  const fs::path json = TempPath("unknown.json");
+  const fs::path png = TempPath("unknown.png");
+  fs::remove(json);
+  const RunResult run = RunFlexrod("contact --law hertzian --mass 1 --velocity 1 --json " +
+                                   json.string() + " --plot " + png.string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("hertzian"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(json));
+  EXPECT_FALSE(fs::exists(png));
+}
+
+TEST(ContactCli, ParameterTheLawDoesNotTakeExitsWithCode2) {
+  const fs::path json = TempPath("badparam.json");
+  const RunResult run = RunFlexrod(
+      "contact --law hertz --restitution 0.5 --mass 1 --velocity 1 --json " + json.string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("restitution = 0.5"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(json));
+  const RunResult bad_e =
+      RunFlexrod("contact --law flores --restitution 1.5 --mass 1 --velocity 1");
+  EXPECT_EQ(bad_e.exit_code, 2) << bad_e.output;
+}
+
+TEST(ContactCli, PlotWritesAPng) {
+  const fs::path png = TempPath("loop.png");
+  fs::remove(png);
+  const RunResult run = RunFlexrod(
+      "contact --law hybrid --restitution 0.9 --mass 1 --velocity 0.3 --plot " + png.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::ifstream in(png, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  fs::remove(png);
+  // Nothing half-written is left beside it.
+  for (const auto& entry : fs::directory_iterator(png.parent_path())) {
+    EXPECT_EQ(entry.path().filename().string().find(".flexrod_contact_cli_" +
+                                                    std::to_string(getpid()) + "_loop.png.tmp"),
+              std::string::npos);
+  }
+}
+
+}  // namespace
