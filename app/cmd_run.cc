@@ -57,6 +57,15 @@ int Run(const RunOptions& opt) {
                 a["peak_positive"].get<double>(), a["peak_negative"].get<double>(), a["rms"].get<double>(),
                 a["revolutions"].get<int>());
   }
+  if (s.contains("load_amplification")) {
+    const auto& a = s["load_amplification"];
+    std::printf("  load amplification (real / ideal joint): slider acceleration +%s / -%s (p95 of per-rev peaks: "
+                "+%s / -%s), bearing force %s\n",
+                a["slider_acceleration_positive"].dump().c_str(), a["slider_acceleration_negative"].dump().c_str(),
+                a["slider_acceleration_positive_p95"].dump().c_str(),
+                a["slider_acceleration_negative_p95"].dump().c_str(),
+                a.contains("bearing_force") ? a["bearing_force"].dump().c_str() : "n/a");
+  }
   if (s.contains("rod")) {
     std::printf("  rod: peak gauge stress %.4g MPa, safety factor against yield %s\n",
                 s["rod"]["peak_gauge_stress [Pa]"].get<double>() * 1e-6, s["rod"]["safety_factor"].dump().c_str());

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "study/run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -28,9 +29,15 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
 }
 
 /// Channel recorder: names, units and a function per sample, filled in the capture window.
+/// Quantities several channels share, computed once per sample.
+struct SampleCache {
+  multibody::EnergyReport energy;
+  double constraint_violation{0.0};
+};
+
 class Recorder {
  public:
-  using Fn = std::function<double(const SampleView&)>;
+  using Fn = std::function<double(const SampleView&, const SampleCache&)>;
   void Add(std::string name, std::string unit, Fn fn) {
     names_.push_back(std::move(name));
     units_.push_back(std::move(unit));
@@ -39,9 +46,14 @@ class Recorder {
   }
   void Record(const SampleView& s) {
     if (values_.empty() || values_[0].empty()) first_t_ = s.t();
-    for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s));
+    cache_.energy = s.Energies();
+    cache_.constraint_violation = s.ConstraintViolation();
+    for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s, cache_));
   }
   size_t size() const { return values_.empty() ? 0 : values_[0].size(); }
+  void Reserve(size_t n) {
+    for (auto& v : values_) v.reserve(n);
+  }
   study::TimeSeries Finish(double rate) {
     study::TimeSeries ts(rate, size() ? first_t_ : 0.0);
     for (size_t i = 0; i < fns_.size(); ++i) ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
@@ -52,6 +64,7 @@ class Recorder {
   std::vector<std::string> names_, units_;
   std::vector<Fn> fns_;
   std::vector<std::vector<double>> values_;
+  SampleCache cache_;
   double first_t_{0.0};
 };
 
@@ -63,24 +76,53 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
     const int sx = m.coordinate(mm.slider, multibody::kX);
     const auto driver = mm.driver;
-    rec->Add("crank_angle", "rad", [=](const SampleView& s) { return s.coordinate(crank_theta); });
-    rec->Add("crank_speed", "rad/s", [=](const SampleView& s) { return s.velocity(crank_theta); });
-    rec->Add("crank_torque", "N*m", [=](const SampleView& s) { return s.Driver(driver).torque; });
-    rec->Add("slider_position", "m", [=](const SampleView& s) { return s.coordinate(sx); });
-    rec->Add("slider_velocity", "m/s", [=](const SampleView& s) { return s.velocity(sx); });
-    rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s) { return s.acceleration(sx); });
+    rec->Add("crank_angle", "rad", [=](const SampleView& s, const SampleCache&) { return s.coordinate(crank_theta); });
+    rec->Add("crank_speed", "rad/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(crank_theta); });
+    rec->Add("crank_torque", "N*m", [=](const SampleView& s, const SampleCache&) { return s.Driver(driver).torque; });
+    rec->Add("slider_position", "m", [=](const SampleView& s, const SampleCache&) { return s.coordinate(sx); });
+    rec->Add("slider_velocity", "m/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(sx); });
+    rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s, const SampleCache&) { return s.acceleration(sx); });
     const auto big = mm.big_end_joint;
     // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
-    rec->Add("big_end_force_x", "N", [=](const SampleView& s) { return s.Reaction(big).force_j.x(); });
-    rec->Add("big_end_force_y", "N", [=](const SampleView& s) { return s.Reaction(big).force_j.y(); });
-    const auto small = mm.small_end_joint;
-    // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
-    rec->Add("bearing_force_x", "N", [=](const SampleView& s) { return s.Reaction(small).force_i.x(); });
-    rec->Add("bearing_force_y", "N", [=](const SampleView& s) { return s.Reaction(small).force_i.y(); });
-    rec->Add("bearing_force", "N", [=](const SampleView& s) { return s.Reaction(small).force_i.norm(); });
+    rec->Add("big_end_force_x", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(big).force_j.x(); });
+    rec->Add("big_end_force_y", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(big).force_j.y(); });
+    if (mm.small_end_joint.index >= 0) {  // ideal small-end joint
+      const auto small = mm.small_end_joint;
+      // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
+      rec->Add("bearing_force_x", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(small).force_i.x(); });
+      rec->Add("bearing_force_y", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(small).force_i.y(); });
+      rec->Add("bearing_force", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(small).force_i.norm(); });
+    }
+    if (mm.clearance.index >= 0) {  // clearance small-end joint (multibody/clearance_joint.h)
+      // One joint evaluation per sample, shared by the channels below (keyed on the time).
+      struct JointCache {
+        bool valid{false};
+        double t{0.0};
+        multibody::ClearanceResponse response;
+      };
+      const auto joint = mm.clearance;
+      const auto cache = std::make_shared<JointCache>();
+      auto at = [joint, cache](const SampleView& s) -> const multibody::ClearanceResponse& {
+        if (!cache->valid || cache->t != s.t()) {
+          cache->response = multibody::CalcClearanceResponse(s, joint);
+          cache->t = s.t();
+          cache->valid = true;
+        }
+        return cache->response;
+      };
+      // Pin centre relative to the bush centre (world axes); penetration < 0 is the open gap.
+      rec->Add("journal_eccentricity_x", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity.x(); });
+      rec->Add("journal_eccentricity_y", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity.y(); });
+      rec->Add("journal_eccentricity", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity_norm; });
+      rec->Add("penetration", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.penetration; });
+      rec->Add("penetration_rate", "m/s", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.penetration_rate; });
+      rec->Add("contact_normal_force", "N", [=](const SampleView& s, const SampleCache&) { return at(s).normal_force; });
+      rec->Add("contact_friction_force", "N", [=](const SampleView& s, const SampleCache&) { return at(s).friction_force; });
+      rec->Add("contact_dissipation", "W", [=](const SampleView& s, const SampleCache&) { return at(s).dissipation(); });
+    }
   } else {
-    rec->Add("rod_angle", "rad", [=](const SampleView& s) { return s.coordinate(rod_theta); });
-    rec->Add("rod_angular_velocity", "rad/s", [=](const SampleView& s) { return s.velocity(rod_theta); });
+    rec->Add("rod_angle", "rad", [=](const SampleView& s, const SampleCache&) { return s.coordinate(rod_theta); });
+    rec->Add("rod_angular_velocity", "rad/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(rod_theta); });
   }
   if (mm.rod) {
     const fem::ReducedRod& rod = *mm.rod;
@@ -92,7 +134,7 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     const int probe = static_cast<int>(std::lround(x_probe / rod.rod.element_length()));
     const int last = rod.rod.num_nodes() - 1;
     const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
-    rec->Add("rod_deflection", "m", [=](const SampleView& s) {
+    rec->Add("rod_deflection", "m", [=](const SampleView& s, const SampleCache&) {
       const Eigen::Map<const Vec> q(s.y() + q0, n);
       auto pos = [&](int k) -> Vec2 { return keep->nodes[k].position + keep->nodes[k].S_u * q; };
       const Vec2 a = pos(0), b = pos(last), c = pos(probe);
@@ -106,27 +148,26 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
       const std::string name = "gauge" + std::to_string(g + 1);
       const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
       const RowVec strain_row = rows.axial + rows.bending;
-      rec->Add("strain_" + name, "1", [=](const SampleView& s) {
+      rec->Add("strain_" + name, "1", [=](const SampleView& s, const SampleCache&) {
         return strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
       });
-      rec->Add("stress_" + name, "Pa", [=](const SampleView& s) {
+      rec->Add("stress_" + name, "Pa", [=](const SampleView& s, const SampleCache&) {
         return E * strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
       });
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
     }
     for (int k = 0; k < n; ++k) {
-      rec->Add("q" + std::to_string(k + 1), "1", [=](const SampleView& s) { return s.coordinate(q0 + k); });
+      rec->Add("q" + std::to_string(k + 1), "1", [=](const SampleView& s, const SampleCache&) { return s.coordinate(q0 + k); });
     }
   }
-  rec->Add("energy_kinetic", "J", [](const SampleView& s) { return s.Energies().kinetic; });
-  rec->Add("energy_strain", "J", [](const SampleView& s) { return s.Energies().strain; });
-  rec->Add("energy_dissipated", "J", [](const SampleView& s) {
-    const auto e = s.Energies();
-    return e.dissipated_elements + e.dissipated_damping;
-  });
-  rec->Add("driver_work", "J", [](const SampleView& s) { return s.Energies().driver_work; });
-  rec->Add("energy_balance_error", "J", [](const SampleView& s) { return s.Energies().balance_error; });
-  rec->Add("constraint_violation", "m", [](const SampleView& s) { return s.ConstraintViolation(); });
+  using C = const SampleCache&;
+  rec->Add("energy_kinetic", "J", [](const SampleView&, C c) { return c.energy.kinetic; });
+  rec->Add("energy_strain", "J", [](const SampleView&, C c) { return c.energy.strain; });
+  rec->Add("energy_dissipated", "J",
+           [](const SampleView&, C c) { return c.energy.dissipated_elements + c.energy.dissipated_damping; });
+  rec->Add("driver_work", "J", [](const SampleView&, C c) { return c.energy.driver_work; });
+  rec->Add("energy_balance_error", "J", [](const SampleView&, C c) { return c.energy.balance_error; });
+  rec->Add("constraint_violation", "m", [](const SampleView&, C c) { return c.constraint_violation; });
 }
 
 multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
@@ -219,7 +260,10 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
 
 }  // namespace
 
-RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint) {
+namespace {
+
+RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
+                 MechanismModel* model_out) {
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
@@ -251,6 +295,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
       const double theta0 = cfg.Quantity("drive.initial_angle"), idx = cfg.Quantity("sim.index_angle");
       const double k = std::ceil((theta0 + w0 * settle - idx) / kTwoPi - 1e-12);
       t_capture_start = (idx + kTwoPi * k - theta0) / w0;
+      opt.start_sampling_at_index = false;  // the grid starts exactly at the index time
     } else {
       t_capture_start = settle + 0.0;  // the index event starts the grid; allow one extra revolution
     }
@@ -259,7 +304,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     ic.fixed_velocities = {m.coordinate(mm.conrod, multibody::kTheta)};
   }
   opt.t_start = 0.0;
-  opt.sample_start = settle;
+  opt.sample_start = opt.start_sampling_at_index ? settle : t_capture_start;
   opt.t_end = t_capture_start + capture;
   if (!mm.is_pendulum && cfg.Text("drive.type") != "constant") opt.t_end += 1.0;  // wait for the index
   opt.Validate(m);
@@ -270,6 +315,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   multibody::RunData data(m);
   const double rate = opt.sample_rate;
   const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
+  rec.Reserve(static_cast<size_t>(max_samples));
   multibody::SimulationCallbacks cb;
   cb.on_sample = [&](const SampleView& s) {
     if (static_cast<long>(rec.size()) < max_samples) rec.Record(s);
@@ -323,6 +369,61 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   out.summary["capture_start [s]"] = out.channels.num_samples() ? out.channels.start_time() : 0.0;
   out.summary["wall_time [s]"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (model_out) *model_out = std::move(mm);
+  return out;
+}
+
+/// Peak of the bearing force: the ideal joint's reaction, or the clearance joint's contact
+/// force sqrt(Fn² + Ft²).
+std::vector<double> BearingForce(const study::TimeSeries& ts) {
+  if (ts.HasChannel("bearing_force")) {
+    const auto v = ts.values("bearing_force");
+    return {v.begin(), v.end()};
+  }
+  std::vector<double> f;
+  if (!ts.HasChannel("contact_normal_force")) return f;
+  const auto n = ts.values("contact_normal_force");
+  const bool has_t = ts.HasChannel("contact_friction_force");
+  for (size_t i = 0; i < n.size(); ++i) {
+    const double t = has_t ? ts.values("contact_friction_force")[i] : 0.0;
+    f.push_back(std::hypot(n[i], t));
+  }
+  return f;
+}
+
+}  // namespace
+
+RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint) {
+  MechanismModel mm;
+  RunResult out = RunOne(cfg, rod, ideal_joint, &mm);
+  const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
+  if (!clearance || out.channels.num_samples() < 3) return out;
+  // The ideal-joint twin: same mechanism, same rod, same capture window.
+  RunResult twin = RunOne(cfg, mm.rod, true, nullptr);
+  out.summary["ideal"] = twin.summary;
+  if (twin.ok() && twin.channels.num_samples() == out.channels.num_samples()) {
+    const double idx = cfg.Quantity("sim.index_angle");
+    const study::SignalSummary real =
+        study::CalcSignalSummary(out.channels, "slider_acceleration", "crank_angle", idx, out.channels.all());
+    const study::SignalSummary ideal =
+        study::CalcSignalSummary(twin.channels, "slider_acceleration", "crank_angle", idx, twin.channels.all());
+    const study::LoadAmplification a = study::CalcLoadAmplification(real, ideal);
+    auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    nlohmann::json amp = {{"slider_acceleration_positive", num(a.positive)},
+                          {"slider_acceleration_negative", num(a.negative)},
+                          {"slider_acceleration_positive_p95", num(a.positive_p95)},
+                          {"slider_acceleration_negative_p95", num(a.negative_p95)}};
+    const std::vector<double> fr = BearingForce(out.channels), fi = BearingForce(twin.channels);
+    if (!fr.empty() && !fi.empty()) {
+      const double pr = *std::max_element(fr.begin(), fr.end());
+      const double pi = *std::max_element(fi.begin(), fi.end());
+      amp["bearing_force"] = num(pi > 0 ? pr / pi : NAN);
+      amp["bearing_force_peak_real [N]"] = pr;
+      amp["bearing_force_peak_ideal [N]"] = pi;
+    }
+    out.summary["load_amplification"] = amp;
+  }
+  out.ideal = std::move(twin.channels);
   return out;
 }
 
@@ -330,6 +431,10 @@ void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& r
   EnsureDirectory("--out", dir);
   WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml());
   study::WriteCsv(run.channels, dir + "/channels.csv");
+  if (run.ideal) {
+    EnsureDirectory("--out", dir + "/ideal");
+    study::WriteCsv(*run.ideal, dir + "/ideal/channels.csv");
+  }
   WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
 }
 

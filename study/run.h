@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,12 +22,17 @@ namespace flexrod {
 struct RunResult {
   study::TimeSeries channels{1.0, 0.0};   ///< the captured window (rig sample rate)
   multibody::SimulationStatus status;
-  nlohmann::json summary;                 ///< peaks, RMS, statistics, energy, wall time
+  nlohmann::json summary;                 ///< peaks, RMS, statistics, energy, wall time,
+                                          ///< and load_amplification for clearance runs
+  std::optional<study::TimeSeries> ideal; ///< the ideal-joint twin's channels (clearance runs)
   bool ok() const { return status.ok(); }
 };
 
-/// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces the ideal
-/// twin. A numerical failure is reported in the status; the channels up to it are kept.
+/// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces an ideal
+/// small-end joint. A clearance run also runs its ideal-joint twin (same rod, same capture
+/// window) and reports the load amplification = peak |slider acceleration| real / ideal per
+/// direction (and on the per-revolution 95th percentiles), and the bearing-force ratio.
+/// A numerical failure is reported in the status; the channels up to it are kept.
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod = nullptr,
                         bool ideal_joint = false);
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "study/joint_config.h"
 #include "study/rod_config.h"
 
 namespace flexrod {
@@ -174,7 +175,13 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   if (ideal_joint || cfg.Text("joint.type") == "ideal") {
     out.small_end_joint = b.AddRevolute("small-end", out.small_end, out.journal);
   } else {
-    throw InputError("joint.type", cfg.Text("joint.type"), "the clearance joint is not available in this build");
+    // Clearance joint: bush on the rod's small-end clamp (marker i), pin on the slider (marker
+    // j). The slider keeps its guide (y and angle held); along it, it is free. p0 below puts the
+    // journal at the bush centre (concentric pin: zero eccentricity, joint open).
+    ClearanceJointConfig joint = ResolveClearanceJoint(cfg, slider_mass);
+    out.clearance = b.AddForceElement("small-end-clearance", out.small_end, out.journal,
+                                      MakeClearanceJoint(joint));
+    out.joint_parameters = std::move(joint.parameters);
   }
 
   // ---- drive ----

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fem/reduced_rod.h"
+#include "multibody/clearance_joint.h"
 #include "multibody/mechanism.h"
 #include "study/config.h"
 
@@ -27,6 +28,11 @@ struct MechanismModel {
   multibody::MarkerId crank_pin, big_end, small_end, journal;
   multibody::JointId crank_pivot_joint, big_end_joint, small_end_joint, guide_joint;
   multibody::DriverId driver;
+  /// The clearance small-end joint (force element between small_end = bush and journal = pin);
+  /// index −1 with an ideal joint.
+  multibody::ElementId clearance;
+  /// Resolved clearance-joint parameters (SI; study/joint_config.h), empty with an ideal joint.
+  std::vector<contact::ResolvedParameter> joint_parameters;
   Vec p0;                      ///< initial coordinate guess (consistent for the rigid motion)
   double crank_length{0.0};    ///< [m]
   double effective_length{0.0};  ///< crank pin to bush centre, undeformed [m]
