@@ -17,6 +17,8 @@ int Main(int argc, char** argv) {
   RegisterModes(app, &handler);
   RegisterRun(app, &handler);
   RegisterContact(app, &handler);
+  RegisterSweep(app, &handler);
+  RegisterCompare(app, &handler);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -26,13 +26,16 @@ struct RunOptions {
 
 Config LoadInput(const std::string& input, const std::vector<std::string>& sets) {
   Config cfg;
-  if (const Preset* p = FindPreset(input)) {
+  const Preset* p = input.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(input);  // sweep-* are matrices
+  if (p) {
     cfg.LoadToml(p->toml, "preset " + input);
   } else if (std::filesystem::exists(input)) {
     cfg.LoadTomlFile(input);
   } else {
     std::string names;
-    for (const Preset& q : Presets()) names += (names.empty() ? "" : ", ") + q.name;
+    for (const Preset& q : Presets()) {
+      if (q.name.rfind("sweep-", 0) != 0) names += (names.empty() ? "" : ", ") + q.name;
+    }
     throw InputError("input", input, "is neither a preset (" + names + ") nor an existing TOML file");
   }
   for (const std::string& s : sets) cfg.SetAssignment(s);

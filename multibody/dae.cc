@@ -914,7 +914,9 @@ Mat CalcJacobian(const Mechanism& model, RunData* data, double t, double cj, con
 void DifferentialMask(const Mechanism& model, double* id) {
   const int N = model.size();
   for (int i = 0; i < N; ++i) {
-    id[i] = (i >= model.lambda_offset() && i < model.z_offset()) ? 0.0 : 1.0;
+    const bool multiplier = i >= model.lambda_offset() && i < model.z_offset();
+    const bool driver_work = i == model.quadrature_offset() + kDriverWork;
+    id[i] = (multiplier || driver_work) ? 0.0 : 1.0;
   }
 }
 

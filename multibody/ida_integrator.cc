@@ -110,6 +110,11 @@ void DaeSystem::AbsoluteToleranceScales(double* scales) const {
   for (int i = 0; i < size(); ++i) scales[i] = 1.0;
 }
 
+void DaeSystem::StepScaledWeightMask(double* mask) const {
+  DifferentialMask(mask);
+  for (int i = 0; i < size(); ++i) mask[i] = mask[i] == 0.0 ? 1.0 : 0.0;
+}
+
 SparsityPattern DaeSystem::JacobianPattern() const {
   SparsityPattern p;
   const int n = size();
@@ -143,6 +148,10 @@ void IntegratorOptions::Validate() const {
           max_convergence_failures, "must be >= 1");
   Require(max_error_test_failures >= 1, "integrator.max_error_test_failures",
           max_error_test_failures, "must be >= 1");
+  Require(nonlinear_convergence_coefficient > 0.0 && nonlinear_convergence_coefficient < 1.0,
+          "integrator.nonlinear_convergence_coefficient", nonlinear_convergence_coefficient,
+          "must be in (0, 1)");
+  RequireNonNegative("integrator.jacobian_refresh_cj_change", jacobian_refresh_cj_change);
   Require(klu_threshold >= 1, "integrator.klu_threshold", klu_threshold, "must be >= 1");
 }
 
@@ -184,6 +193,7 @@ struct IdaIntegrator::Impl {
   SUNContext ctx{nullptr};
   void* mem{nullptr};
   N_Vector y{nullptr}, yp{nullptr}, id{nullptr}, atol{nullptr}, tmp{nullptr}, tmp2{nullptr};
+  std::vector<double> step_scaled;  // 1 where the error weight is multiplied by h
   SUNMatrix A{nullptr};
   SUNLinearSolver LS{nullptr};
   bool sparse{false};
@@ -298,12 +308,12 @@ static int IdaRoots(realtype t, N_Vector y, N_Vector yp, realtype* g, void* user
   }
 }
 
-// ewt_i = 1/(rtol |y_i| + atol_i), times h for algebraic unknowns (see IntegratorOptions).
+// ewt_i = 1/(rtol |y_i| + atol_i), times h for the step-scaled unknowns (IntegratorOptions).
 static int IdaErrorWeights(N_Vector y, N_Vector ewt, void* user) {
   auto* impl = static_cast<IdaIntegrator::Impl*>(user);
   const double* yv = NV_DATA_S(y);
   const double* atol = NV_DATA_S(impl->atol);
-  const double* id = NV_DATA_S(impl->id);
+  const double* scaled = impl->step_scaled.data();
   double* w = NV_DATA_S(ewt);
   double alg = 1.0;
   if (impl->scale_algebraic) {
@@ -319,7 +329,7 @@ static int IdaErrorWeights(N_Vector y, N_Vector ewt, void* user) {
   for (int i = 0; i < impl->n; ++i) {
     const double d = impl->rel_tol * std::abs(yv[i]) + atol[i];
     if (!(d > 0.0) || !std::isfinite(d)) return -1;
-    w[i] = (id[i] == 0.0 ? alg : 1.0) / d;
+    w[i] = (scaled[i] != 0.0 ? alg : 1.0) / d;
   }
   return 0;
 }
@@ -382,6 +392,8 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   std::memcpy(NV_DATA_S(I.y), y0, sizeof(double) * n);
   std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
   system_->DifferentialMask(NV_DATA_S(I.id));
+  I.step_scaled.assign(n, 0.0);
+  system_->StepScaledWeightMask(I.step_scaled.data());
   system_->AbsoluteToleranceScales(NV_DATA_S(I.atol));
   for (int i = 0; i < n; ++i) NV_DATA_S(I.atol)[i] *= options_.abs_tol;
 
@@ -406,6 +418,10 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   CheckFlag(IDASetMaxConvFails(I.mem, options_.max_convergence_failures), "IDASetMaxConvFails");
   CheckFlag(IDASetMaxErrTestFails(I.mem, options_.max_error_test_failures),
             "IDASetMaxErrTestFails");
+  CheckFlag(IDASetNonlinConvCoef(I.mem, options_.nonlinear_convergence_coefficient),
+            "IDASetNonlinConvCoef");
+  CheckFlag(IDASetDeltaCjLSetup(I.mem, options_.jacobian_refresh_cj_change),
+            "IDASetDeltaCjLSetup");
 
   SUNLinearSolver inner = nullptr;
   if (solver_kind_ == LinearSolverKind::kKlu) {

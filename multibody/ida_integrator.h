@@ -33,8 +33,13 @@ class DaeSystem {
   virtual ~DaeSystem() = default;
   virtual int size() const = 0;
   virtual int num_roots() const { return 0; }
-  /// id[i] = 1 for a differential unknown, 0 for an algebraic one.
+  /// id[i] = 1 for an unknown under the local error test (differential), 0 otherwise
+  /// (algebraic unknowns, and any unknown the system wants outside the error test).
   virtual void DifferentialMask(double* id) const = 0;
+  /// mask[i] = 1 for unknowns whose error weight is multiplied by the step size when
+  /// IntegratorOptions::scale_algebraic_weights_by_step is set (index-2 algebraic unknowns).
+  /// Default: every unknown with id = 0.
+  virtual void StepScaledWeightMask(double* mask) const;
   /// Per-unknown multiplier of the absolute tolerance (default 1).
   virtual void AbsoluteToleranceScales(double* scales) const;
   virtual int Residual(double t, const double* y, const double* yp, double* r) = 0;
@@ -65,10 +70,16 @@ struct IntegratorOptions {
   int max_nonlinear_iterations{4};   ///< Newton iterations per step (IDA default 4)
   int max_convergence_failures{10};  ///< per step (IDA default 10)
   int max_error_test_failures{10};   ///< per step (IDA default 10)
+  /// Newton convergence-test coefficient (IDASetNonlinConvCoef), in (0, 1); IDA default 0.33.
+  double nonlinear_convergence_coefficient{0.33};
+  /// Re-factor the iteration matrix when |c_j/c_j,old − 1| exceeds this (IDASetDeltaCjLSetup),
+  /// >= 0; IDA default 0.25.
+  double jacobian_refresh_cj_change{0.25};
   LinearSolverKind linear_solver{LinearSolverKind::kAuto};
   int klu_threshold{kKluThreshold};  ///< kAuto: KLU from this many unknowns on
   bool suppress_algebraic{true};     ///< exclude algebraic unknowns from the error test
-  /// Multiply the error weights of algebraic unknowns by the step size h. Their Newton
+  /// Multiply the error weights of the unknowns in DaeSystem::StepScaledWeightMask (index-2
+  /// algebraic unknowns) by the step size h. Their Newton
   /// corrections carry round-off noise that grows like 1/h for index-2 multipliers (GGL λ,
   /// μ), which otherwise stalls the Newton convergence test at small steps; RADAU5 scales
   /// index-2 components by h in the same way (Hairer & Wanner, Solving ODEs II, 2nd ed.,

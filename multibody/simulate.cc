@@ -342,6 +342,12 @@ int MechanismDae::index_root() const {
 
 void MechanismDae::DifferentialMask(double* id) const { multibody::DifferentialMask(model_, id); }
 
+void MechanismDae::StepScaledWeightMask(double* mask) const {
+  for (int i = 0; i < model_.size(); ++i) {
+    mask[i] = (i >= model_.lambda_offset() && i < model_.z_offset()) ? 1.0 : 0.0;
+  }
+}
+
 void MechanismDae::AbsoluteToleranceScales(double* scales) const {
   multibody::AbsoluteToleranceScales(model_, velocity_tol_scale_, energy_tol_scale_, scales);
 }

@@ -3,6 +3,8 @@
 """flexrod plots (matplotlib, Agg backend). Run with Debian's /usr/bin/python3.
 
   flexrod_plots.py run DIR      DIR/channels.csv (+ DIR/ideal/channels.csv) -> DIR/*.png
+  flexrod_plots.py sweep SUMMARY.csv OUT.png   amplification factor vs speed (flexrod sweep)
+  flexrod_plots.py compare DIR  DIR/comparison_NN_points.csv -> 3-D scatter and plan view PNGs
 Every PNG is written to a temporary name and renamed, so no half-written plot is left.
 """
 import csv
@@ -65,12 +67,111 @@ def plot_run(directory):
         save(fig, os.path.join(directory, "rod_strain.png"))
 
 
+def _float(text):
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
+def plot_sweep(summary_csv, out_png):
+    """Amplification factor vs speed: one line per rod (every varying value except speed and
+    clearance), one panel per clearance (rows) and direction (columns). Without an ideal twin
+    (no clearance joint) the peak accelerations are drawn instead."""
+    with open(summary_csv, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["status"] == "completed"]
+    amp_cols = ("amplification_positive [1]", "amplification_negative [1]")
+    use_amp = any(math.isfinite(_float(r[c])) for r in rows for c in amp_cols)
+    cols = amp_cols if use_amp else ("peak_positive [m/s^2]", "peak_negative [m/s^2]")
+    clearances = sorted({r["clearance [mm]"] for r in rows}, key=lambda c: _float(c) if c else 0.0) or [""]
+    fig, axes = plt.subplots(len(clearances), 2, figsize=(11, 3.6 * len(clearances)), squeeze=False,
+                             sharex=True)
+    lines = sorted({r["line"] for r in rows})
+    for i, c in enumerate(clearances):
+        for j, (col, direction) in enumerate(zip(cols, ("positive", "negative"))):
+            ax = axes[i][j]
+            for k, line in enumerate(lines):
+                pts = sorted((_float(r["speed [rpm]"]), _float(r[col])) for r in rows
+                             if r["clearance [mm]"] == c and r["line"] == line)
+                pts = [p for p in pts if math.isfinite(p[1])]
+                if pts:
+                    ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=3, lw=1, color="C%d" % (k % 10),
+                            label=line)
+            title = ("clearance %s mm, " % c if c else "") + direction + " direction"
+            ax.set_title(title, fontsize=10)
+            ax.set_ylabel("amplification factor [-]" if use_amp else "peak |slider acceleration| [m/s^2]")
+            ax.grid(True, alpha=0.3)
+            if i == len(clearances) - 1:
+                ax.set_xlabel("crank speed [rpm]")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 4), fontsize=8)
+    fig.tight_layout(rect=(0, 0, 1, 0.93 if handles else 1))
+    save(fig, out_png)
+
+
+def plot_compare(directory, max_points=20000):
+    """For every comparison_NN_points.csv in DIR: a 3-D scatter (speed x crank angle x
+    acceleration, one colour per rod) and its plan view (speed x crank angle)."""
+    from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projection)
+    for name in sorted(os.listdir(directory)):
+        if not (name.startswith("comparison_") and name.endswith("_points.csv")):
+            continue
+        stem = os.path.join(directory, name[: -len("_points.csv")])
+        with open(os.path.join(directory, name), newline="") as f:
+            rows = list(csv.DictReader(f))
+        if not rows:
+            continue
+        title = os.path.basename(stem)
+        md = stem + ".md"
+        if os.path.exists(md):
+            with open(md) as f:
+                title = f.readline().lstrip("# ").strip()
+        items = []
+        for r in rows:
+            if r["item"] not in items:
+                items.append(r["item"])
+        fig3 = plt.figure(figsize=(8, 6.5))
+        ax3 = fig3.add_subplot(projection="3d")
+        fig2, ax2 = plt.subplots(figsize=(8, 5))
+        for k, item in enumerate(items):
+            pts = [r for r in rows if r["item"] == item]
+            step = max(1, len(pts) // max_points)  # deterministic thinning for very large sweeps
+            pts = pts[::step]
+            speed = [float(r["speed [rpm]"]) for r in pts]
+            angle = [float(r["crank_angle [deg]"]) for r in pts]
+            acc = [float(r["acceleration [m/s^2]"]) for r in pts]
+            ax3.scatter(speed, angle, acc, s=2, color="C%d" % (k % 10), label=item, depthshade=False)
+            peak = max([abs(a) for a in acc] + [1e-300])
+            sizes = [2.0 + 30.0 * abs(a) / peak for a in acc]  # marker area grows with |acceleration|
+            ax2.scatter(angle, speed, s=sizes, color="C%d" % (k % 10), label=item, alpha=0.5)
+        ax3.set_xlabel("crank speed [rpm]")
+        ax3.set_ylabel("crank angle [deg]")
+        ax3.set_zlabel("slider acceleration [m/s^2]")
+        ax3.set_title(title, fontsize=9)
+        ax3.legend(markerscale=4, fontsize=8)
+        ax2.set_xlabel("crank angle [deg]")
+        ax2.set_ylabel("crank speed [rpm]")
+        ax2.set_xlim(0, 360)
+        ax2.set_title(title + " (plan view; marker size ~ |acceleration|)", fontsize=9)
+        ax2.legend(markerscale=4, fontsize=8)
+        ax2.grid(True, alpha=0.3)
+        save(fig3, stem + "_scatter.png")
+        save(fig2, stem + "_plan.png")
+
+
 def main(argv):
     if len(argv) < 3:
         print(__doc__, file=sys.stderr)
         return 2
     if argv[1] == "run":
         plot_run(argv[2])
+        return 0
+    if argv[1] == "sweep" and len(argv) >= 4:
+        plot_sweep(argv[2], argv[3])
+        return 0
+    if argv[1] == "compare":
+        plot_compare(argv[2])
         return 0
     print("unknown plot kind: " + argv[1], file=sys.stderr)
     return 2

@@ -5,4 +5,4 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
 build="${FLEXROD_BUILD_DIR:-$root/build}"
-"$build/flexrod" modes "$@"
+"$build/flexrod" run "$@"

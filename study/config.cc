@@ -179,8 +179,21 @@ std::vector<Config::Resolved> Config::Resolve() const {
 std::string Config::ResolvedToml() const {
   std::ostringstream os;
   os << "# flexrod resolved input: every key, SI values; '# default' marks values not set by the user\n";
+  // Group keys by section (a TOML table may appear only once), sections in schema order.
+  std::vector<Resolved> all = Resolve();
+  std::vector<std::string> order;
+  for (const Resolved& r : all) {
+    const std::string sec = r.key.substr(0, r.key.rfind('.'));
+    if (std::find(order.begin(), order.end(), sec) == order.end()) order.push_back(sec);
+  }
+  std::stable_sort(all.begin(), all.end(), [&](const Resolved& a, const Resolved& b) {
+    auto rank = [&](const Resolved& r) {
+      return std::find(order.begin(), order.end(), r.key.substr(0, r.key.rfind('.'))) - order.begin();
+    };
+    return rank(a) < rank(b);
+  });
   std::string section;
-  for (const Resolved& r : Resolve()) {
+  for (const Resolved& r : all) {
     const size_t dot = r.key.rfind('.');
     const std::string sec = r.key.substr(0, dot);
     if (sec != section) {

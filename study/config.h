@@ -19,6 +19,10 @@ namespace flexrod {
 enum class ParamKind { kQuantity, kInteger, kChoice, kText, kBool };
 
 struct ParamDef {
+  ParamDef(std::string k, ParamKind kd, Dimension d, std::string def, std::string dc,
+           std::vector<std::string> ch = {})
+      : key(std::move(k)), kind(kd), dim(d), default_text(std::move(def)), doc(std::move(dc)),
+        choices(std::move(ch)) {}
   std::string key;
   ParamKind kind{ParamKind::kQuantity};
   Dimension dim{Dimension::kDimensionless};

@@ -25,7 +25,6 @@ constexpr OverrideKey kLawOverrides[] = {
     {"joint.effective_mass", "effective-mass"},
     {"joint.working_penetration", "working-penetration"},
     {"joint.min_approach_velocity", "min-approach-velocity"},
-    {"joint.restitution", "restitution"},
 };
 
 /// The joint.* key a contact-layer InputError refers to.
@@ -38,7 +37,9 @@ std::string JointKeyFor(const std::string& contact_key) {
   if (contact_key == "friction-coefficient" || contact_key == "static-coefficient") {
     return "joint.friction";
   }
-  if (contact_key == "contact.restitution") return "joint.restitution";
+  if (contact_key == "contact.restitution" || contact_key == "restitution") {
+    return "joint.restitution";
+  }
   if (contact_key == "contact.pin_radius" || contact_key == "contact.clearance") {
     return "joint.clearance";
   }
@@ -124,13 +125,16 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
   const std::string law = cfg.Text("joint.law");
   const std::vector<std::string>& accepted =
       Rekeyed([&]() -> const std::vector<std::string>& { return contact::NormalLawParameterKeys(law); });
+  // An override is given when its value is not 0 (0 = derived; this keeps a written resolved
+  // input loadable as an input).
   contact::ParameterMap overrides;
   for (const OverrideKey& k : kLawOverrides) {
-    if (cfg.IsSet(k.input)) overrides[k.parameter] = cfg.Quantity(k.input);
+    const double v = cfg.Quantity(k.input);
+    if (v != 0.0) overrides[k.parameter] = v;
   }
   const bool takes_mass =
       std::find(accepted.begin(), accepted.end(), "effective-mass") != accepted.end();
-  const bool derived_mass = takes_mass && !cfg.IsSet("joint.effective_mass");
+  const bool derived_mass = takes_mass && overrides.count("effective-mass") == 0;
   if (derived_mass) {
     RequirePositive("slider.mass", default_effective_mass);
     overrides["effective-mass"] = default_effective_mass;
@@ -146,12 +150,7 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
 
   // ---- friction ----
   const std::string friction = cfg.Text("joint.friction_law");
-  if (friction == "none") {
-    if (cfg.IsSet("joint.friction")) {
-      throw InputError("joint.friction", FormatValue(cfg.Quantity("joint.friction")),
-                       "joint.friction_law = none takes no friction coefficient");
-    }
-  } else {
+  if (friction != "none") {
     const double mu = cfg.Quantity("joint.friction");
     Require(std::isfinite(mu) && mu > 0.0, "joint.friction", mu,
             "the friction coefficient must be > 0 (use joint.friction_law = none for a "

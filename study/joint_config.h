@@ -6,13 +6,16 @@
 // live here: the laws (contact/), the force element (multibody/clearance_joint.h), where the
 // joint sits in the mechanism (study/slider_crank.cc).
 //
-// Override keys (joint.stiffness, joint.exponent, joint.damping, joint.effective_mass,
-// joint.working_penetration, joint.min_approach_velocity, and joint.restitution when set
-// explicitly) are passed to the law only when set; a law that does not take one rejects it
-// with InputError("joint.<key>", value, "law '...' does not take this parameter; it takes: ...")
-// (contact's ParameterMap validation, re-keyed). joint.effective_mass defaults to the slider
-// mass for the laws that calibrate damping to the restitution (kelvin-voigt, maxwell,
-// standard-linear-solid, impact).
+// Override keys joint.stiffness, joint.exponent, joint.damping, joint.effective_mass,
+// joint.working_penetration, joint.min_approach_velocity: 0 (the default) means "derived from
+// materials, geometry and restitution"; any other value is passed to the law, and a law that
+// does not take it rejects it with InputError("joint.<key>", value, "law '...' does not take
+// this parameter; it takes: ...") (contact's ParameterMap validation, re-keyed to the input
+// key). The 0 convention keeps a written resolved input (every key, defaults included) loadable
+// as an input. joint.restitution and the materials are properties of the pin–bush pair: laws
+// without damping do not use them. joint.effective_mass defaults to the slider mass for the
+// laws that calibrate damping to the restitution (kelvin-voigt, maxwell, standard-linear-solid,
+// impact). joint.friction is not used with joint.friction_law = none.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -43,8 +46,8 @@ struct ClearanceJointConfig {
 /// `default_effective_mass` [kg] > 0: the effective mass of the impact when joint.effective_mass
 /// is not set (the slider-crank passes the slider mass). Throws InputError naming the joint.*
 /// key: clearance ≤ 0, pin radius R_bush − c ≤ 0, length ≤ 0, restitution ∉ (0, 1], an unknown
-/// law, a parameter the law does not take, a value outside its rule, μ ≤ 0 with a friction law,
-/// joint.friction set with joint.friction_law = none.
+/// law, a non-zero override the law does not take, a value outside its rule, μ ≤ 0 with a
+/// friction law.
 ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_effective_mass);
 
 /// The force element for a resolved joint.

@@ -157,7 +157,9 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
     }
     for (int k = 0; k < n; ++k) {
-      rec->Add("q" + std::to_string(k + 1), "1", [=](const SampleView& s, const SampleCache&) { return s.coordinate(q0 + k); });
+      std::string name = "q";  // (not "q" + to_string: GCC 12 -Wrestrict false positive, PR 105329)
+      name += std::to_string(k + 1);
+      rec->Add(name, "1", [=](const SampleView& s, const SampleCache&) { return s.coordinate(q0 + k); });
     }
   }
   using C = const SampleCache&;
@@ -276,17 +278,24 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
 
   multibody::InitialConditionSpec ic;
   ic.coordinates = mm.p0;
-  ic.velocities = Vec::Zero(m.num_coordinates());
+  ic.velocities = mm.v0;
   ic.elastic = start == "static" ? multibody::ElasticInitialState::kStaticEquilibrium
                                  : multibody::ElasticInitialState::kUndeformed;
   double t_capture_start = settle;
   if (!mm.is_pendulum) {
     const int ct = m.coordinate(mm.crank, multibody::kTheta);
     const double w0 = cfg.Text("drive.type") == "constant" ? cfg.Quantity("drive.speed") : 0.0;
-    ic.velocities[ct] = w0;
     if (cfg.Text("drive.type") == "motor") {  // constraint drivers fix the crank themselves
       ic.fixed_coordinates = {ct};
       ic.fixed_velocities = {ct};
+    }
+    if (mm.clearance.index >= 0) {
+      // With a clearance joint the rod angle and the slider are free: start them concentric on
+      // the rigid motion (p0, v0), so the run does not begin with an artificial impact.
+      const int rod_theta = m.coordinate(mm.conrod, multibody::kTheta);
+      const int slider_x = m.coordinate(mm.slider, multibody::kX);
+      ic.fixed_coordinates.insert(ic.fixed_coordinates.end(), {rod_theta, slider_x});
+      ic.fixed_velocities.insert(ic.fixed_velocities.end(), {rod_theta, slider_x});
     }
     opt.index_event = multibody::IndexEventSpec{mm.crank, cfg.Quantity("sim.index_angle")};
     opt.start_sampling_at_index = true;
@@ -364,6 +373,24 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   out.channels = rec.Finish(rate);
   out.summary = Summarise(out.channels, cfg, mm);
   out.summary["gauges"] = gauges;
+  if (mm.clearance.index >= 0 && out.channels.num_samples() > 2) {
+    out.impacts = study::FindImpacts(out.channels);
+    const study::ImpactStatistics st = study::CalcImpactStatistics(out.impacts);
+    const double revs = out.channels.num_samples() / out.channels.sample_rate() * cfg.Quantity("drive.speed") /
+                        (2.0 * std::numbers::pi);
+    out.summary["impacts"] = {{"count", st.count},
+                              {"incomplete", st.incomplete},
+                              {"per_revolution", revs > 0 ? st.count / revs : 0.0},
+                              {"max_peak_force [N]", st.max_peak_force},
+                              {"median_peak_force [N]", st.median_peak_force},
+                              {"max_approach_velocity [m/s]", st.max_approach_velocity},
+                              {"max_peak_penetration [m]", st.max_peak_penetration},
+                              {"mean_duration [s]", st.mean_duration},
+                              {"total_dissipated_energy [J]", st.total_dissipated_energy}};
+    for (const contact::ResolvedParameter& p : mm.joint_parameters) {
+      out.summary["joint_parameters"][p.name] = {{"value", p.value}, {"unit", p.unit}, {"source", p.source}};
+    }
+  }
   out.summary["integrator"] = StatusJson(out.status);
   out.summary["samples"] = out.channels.num_samples();
   out.summary["capture_start [s]"] = out.channels.num_samples() ? out.channels.start_time() : 0.0;
@@ -431,6 +458,7 @@ void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& r
   EnsureDirectory("--out", dir);
   WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml());
   study::WriteCsv(run.channels, dir + "/channels.csv");
+  if (!run.impacts.empty()) study::WriteImpactCsv(run.impacts, dir + "/impacts.csv");
   if (run.ideal) {
     EnsureDirectory("--out", dir + "/ideal");
     study::WriteCsv(*run.ideal, dir + "/ideal/channels.csv");

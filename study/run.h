@@ -15,6 +15,7 @@
 #include "multibody/simulate.h"
 #include "study/config.h"
 #include "study/slider_crank.h"
+#include "study/impact_log.h"
 #include "study/timeseries.h"
 
 namespace flexrod {
@@ -25,6 +26,7 @@ struct RunResult {
   nlohmann::json summary;                 ///< peaks, RMS, statistics, energy, wall time,
                                           ///< and load_amplification for clearance runs
   std::optional<study::TimeSeries> ideal; ///< the ideal-joint twin's channels (clearance runs)
+  std::vector<study::Impact> impacts;     ///< impact log of the captured window (clearance runs)
   bool ok() const { return status.ok(); }
 };
 
@@ -36,7 +38,8 @@ struct RunResult {
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod = nullptr,
                         bool ideal_joint = false);
 
-/// Writes resolved.toml, channels.csv, summary.json and slider_acceleration.png into `dir`.
+/// Writes resolved.toml, channels.csv, summary.json (and impacts.csv, ideal/channels.csv for
+/// clearance runs) into `dir`.
 /// Each file is written whole (temporary + rename). Returns the plot status message.
 void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run);
 

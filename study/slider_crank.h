@@ -33,7 +33,8 @@ struct MechanismModel {
   multibody::ElementId clearance;
   /// Resolved clearance-joint parameters (SI; study/joint_config.h), empty with an ideal joint.
   std::vector<contact::ResolvedParameter> joint_parameters;
-  Vec p0;                      ///< initial coordinate guess (consistent for the rigid motion)
+  Vec p0;                      ///< initial coordinates of the rigid motion (q = 0)
+  Vec v0;                      ///< initial velocities of the rigid motion (q̇ = 0)
   double crank_length{0.0};    ///< [m]
   double effective_length{0.0};  ///< crank pin to bush centre, undeformed [m]
   bool is_pendulum{false};

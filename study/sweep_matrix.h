@@ -10,10 +10,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "study/config.h"
 #include "study/signals.h"
@@ -31,9 +30,9 @@ struct Assignment {
 struct StoreOptions {
   /// Channels stored as time series (decimated to `rate`); every analysis uses the full rate.
   std::vector<std::string> channels{"crank_angle", "slider_acceleration"};
-  double rate{10000.0};                  ///< rate of the stored channels [Hz], > 0
+  double rate{10000.0};  ///< rate of the stored channels [Hz], > 0
   Window spectrum_window{Window::kFlatTop};
-  double spectrum_max{5000.0};           ///< highest stored spectrum frequency [Hz], > 0
+  double spectrum_max{5000.0};                ///< highest stored spectrum frequency [Hz], > 0
   double inflection_floor{kInflectionFloor};  ///< noise floor of the turning points [m/s^2], >= 0
   /// Channels sampled at the index crossings (those a run does not have are left out).
   std::vector<std::string> poincare_channels{"slider_position", "slider_velocity",
@@ -52,13 +51,13 @@ struct SweepRun {
 
 /// A parsed, validated and expanded matrix.
 struct SweepMatrix {
-  std::string name;         ///< [sweep] name, default: file stem
-  std::string description;  ///< [sweep] description
-  std::string origin;       ///< where the matrix came from (file path or built-in name)
-  std::string source;       ///< the matrix text as given
-  std::string base;         ///< [sweep] base: preset name or TOML file
-  std::string base_toml;    ///< the base input's text
-  std::vector<Assignment> overrides;  ///< [set], then command-line --set, in order
+  std::string name;                    ///< [sweep] name, default: file stem
+  std::string description;             ///< [sweep] description
+  std::string origin;                  ///< where the matrix came from (file path or built-in name)
+  std::string source;                  ///< the matrix text as given
+  std::string base;                    ///< [sweep] base: preset name or TOML file
+  std::string base_toml;               ///< the base input's text
+  std::vector<Assignment> overrides;   ///< [set], then command-line --set, in order
   std::vector<std::string> axis_keys;  ///< every key that varies, in order of first appearance
   std::vector<SweepRun> runs;          ///< runs in id order (id = index)
   StoreOptions store;
@@ -69,7 +68,8 @@ struct SweepMatrix {
 };
 
 /// Parses a matrix. `base_dir` resolves a relative base file; `extra_sets` are "key=value"
-/// overrides applied after [set] (command-line --set). Throws InputError naming the key, the
+/// overrides applied after [set] (command-line --set); "store.<option>=value" among them
+/// overrides [store]. Throws InputError naming the key, the
 /// value and the rule for: malformed TOML, an unknown section or [sweep]/[store] key, an
 /// unknown input key, a value its key rejects, an empty axis or range, a zipped axis whose
 /// rows do not match its keys, a key set by both [axes] and a combination or twice in one
@@ -91,8 +91,9 @@ SweepMatrix SweepMatrixFromJson(const nlohmann::json& json);
 /// "spectrum_max", "inflection_floor", "poincare_channels"); InputError("store.<key>", ...).
 void SetStoreOption(StoreOptions* options, const std::string& key, const std::string& value);
 
-/// Identity of a run's result: FNV-1a 64 of the resolved input (every key, SI) and the store
-/// options, as 16 hex digits. Equal fingerprints = equal results (runs are deterministic).
+/// Identity of a run's result: FNV-1a 64 of the resolved input (every key, SI, and whether it
+/// was set) and the store options, as 16 hex digits. Equal fingerprints = equal results (runs
+/// are deterministic).
 std::string RunFingerprint(const Config& cfg, const StoreOptions& store);
 /// Cache key of the run's reduced rod: the resolved rod.*, reduction.* and clamp.* values.
 std::string RodKey(const Config& cfg);

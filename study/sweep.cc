@@ -1,0 +1,318 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Sweeps: rod cache, validation, one run, threads, the store session.
+#include "study/sweep.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <filesystem>
+#include <set>
+#include <thread>
+
+#include "common/error.h"
+#include "common/files.h"
+#include "study/run.h"
+#include "study/slider_crank.h"
+
+namespace flexrod::study {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Probe kind: runs with the same value of these produce the same channels.
+std::string ProbeKey(const Config& cfg) {
+  std::string key = RodKey(cfg);
+  for (const char* k : {"mechanism.type", "joint.type", "drive.type", "output.gauges"})
+    key += cfg.Text(k) + ";";
+  return key;
+}
+
+std::string JoinSet(const std::set<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+}  // namespace
+
+// ---- rods ---------------------------------------------------------------------------------
+
+std::shared_ptr<const fem::ReducedRod> RodCache::Get(const Config& cfg) {
+  const std::string key = RodKey(cfg);
+  std::promise<std::shared_ptr<const fem::ReducedRod>> promise;
+  std::shared_future<std::shared_ptr<const fem::ReducedRod>> future;
+  bool build = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = rods_.find(key);
+    if (it == rods_.end()) {
+      future = promise.get_future().share();
+      rods_.emplace(key, future);
+      build = true;
+    } else {
+      future = it->second;
+    }
+  }
+  if (build) {  // built outside the lock: other rods are built meanwhile by other threads
+    try {
+      promise.set_value(BuildReducedRod(cfg));
+    } catch (...) {
+      promise.set_exception(std::current_exception());
+    }
+  }
+  return future.get();
+}
+
+int RodCache::num_built() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int>(rods_.size());
+}
+
+// ---- validation and runs ----------------------------------------------------------------------
+
+void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
+  std::set<std::string> probed, available;
+  bool any_probe = false;
+  for (const SweepRun& run : matrix.runs) {
+    const Config cfg = matrix.ConfigFor(run.id);
+    std::shared_ptr<const fem::ReducedRod> rod;
+    try {
+      rod = rods->Get(cfg);
+    } catch (const NumericalError&) {
+      continue;  // recorded as a failure by the runs of this rod
+    }
+    (void)BuildMechanism(cfg, rod);
+    if (!probed.insert(ProbeKey(cfg)).second) continue;
+    Config probe = cfg;
+    const double rate = cfg.Quantity("sim.sample_rate");
+    probe.Set("sim.settle", "0");
+    probe.Set("sim.capture", FormatValue(3.0 / rate));
+    probe.Set("sim.start", "rigid");
+    try {
+      const RunResult r = RunSimulation(probe, rod);
+      for (const Channel& c : r.channels.channels()) available.insert(c.name);
+      any_probe = any_probe || r.channels.num_channels() > 0;
+    } catch (const NumericalError&) {
+    }
+  }
+  if (!any_probe) return;  // every probe failed numerically: the runs will say why
+  for (const std::string& name : matrix.store.channels) {
+    if (!available.count(name)) {
+      throw InputError("store.channels", name,
+                       "no run of this matrix has this channel; available: " + JoinSet(available));
+    }
+  }
+}
+
+StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Config cfg = matrix.ConfigFor(id);
+  StoredRun out;
+  try {
+    const std::shared_ptr<const fem::ReducedRod> rod = rods->Get(cfg);
+    const RunResult result = RunSimulation(cfg, rod);
+    out = AnalyseRun(cfg, result, matrix.store);
+  } catch (const InputError& e) {
+    out = FailedRun(cfg, matrix.store, "input-error", e.what());
+  } catch (const NumericalError& e) {
+    out = FailedRun(cfg, matrix.store, "numerical-error", e.what());
+  } catch (const std::exception& e) {
+    out = FailedRun(cfg, matrix.store, "error", e.what());
+  }
+  out.id = id;
+  out.label = matrix.runs[id].Label();
+  out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+void RunOnThreads(int jobs, const std::function<std::optional<int>()>& next,
+                  const std::function<void(int)>& work) {
+  std::mutex mutex;
+  std::exception_ptr error;
+  std::atomic<bool> stop{false};
+  auto worker = [&] {
+    for (;;) {
+      std::optional<int> id;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (stop) return;
+        id = next();
+      }
+      if (!id) return;
+      try {
+        work(*id);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        stop = true;
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int i = 1; i < std::max(jobs, 1); ++i) threads.emplace_back(worker);
+  worker();  // the calling thread works too
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+// ---- session ------------------------------------------------------------------------------
+
+SweepSession::SweepSession(const SweepMatrix& matrix, const std::string& store_path)
+    : matrix_(matrix), store_path_(store_path), parts_dir_(store_path + ".parts") {
+  if (fs::exists(store_path) && !StoreIndex::IsStore(store_path)) {
+    throw InputError("--out", store_path,
+                     "exists and is not a flexrod sweep store: choose another file");
+  }
+  const std::string parent = fs::path(store_path).parent_path().string();
+  if (!parent.empty()) EnsureDirectory("--out", parent);
+  EnsureDirectory("--out", parts_dir_);
+  const std::string lock_path = parts_dir_ + "/.lock";
+  lock_fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT, 0644);
+  if (lock_fd_ < 0)
+    throw InputError("--out", store_path, "cannot create the lock file " + lock_path);
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError("--out", store_path,
+                     "another flexrod sweep is writing this store (" + lock_path + " is locked)");
+  }
+  // Temporaries of a killed sweep are incomplete by construction: remove them.
+  for (const auto& entry : fs::directory_iterator(parts_dir_)) {
+    if (entry.path().extension() == ".tmp") fs::remove(entry.path());
+  }
+  std::error_code ec;
+  fs::remove(store_path_ + ".tmp", ec);
+  const StoreIndex previous(store_path_);
+  for (const SweepRun& run : matrix_.runs) {
+    const Config cfg = matrix_.ConfigFor(run.id);
+    fingerprints_.push_back(RunFingerprint(cfg, matrix_.store));
+    const std::string part = PartPath(run.id);
+    bool finished = false;
+    if (fs::is_regular_file(part)) {
+      try {
+        const StoredRun stored = ReadPartFile(part, false);
+        finished =
+            stored.fingerprint == fingerprints_.back() && stored.input_toml == InputToml(cfg);
+      } catch (const std::exception&) {
+        finished = false;
+      }
+      if (!finished) fs::remove(part);
+      from_parts_ += finished ? 1 : 0;
+    }
+    if (!finished && previous.Has(fingerprints_.back())) {
+      finished = true;
+      ++from_store_;
+    }
+    if (!finished) pending_.push_back(run.id);
+  }
+}
+
+SweepSession::~SweepSession() {
+  if (lock_fd_ >= 0) {
+    ::flock(lock_fd_, LOCK_UN);
+    ::close(lock_fd_);
+  }
+}
+
+std::string SweepSession::PartPath(int id) const {
+  return parts_dir_ + "/" + fingerprints_.at(static_cast<std::size_t>(id)) + ".h5";
+}
+
+void SweepSession::Save(const StoredRun& run) { WritePartFile(PartPath(run.id), run); }
+
+StoredRun SweepSession::SaveBytes(int id, const std::string& bytes) {
+  const std::string path = PartPath(id);
+  WriteFileDurable(path, bytes);
+  StoredRun back = ReadPartFile(path, false);
+  if (back.fingerprint != fingerprints_.at(static_cast<std::size_t>(id))) {
+    fs::remove(path);
+    throw NumericalError("part received for run " + std::to_string(id) +
+                         " has another fingerprint");
+  }
+  return back;
+}
+
+SweepSession::Outcome SweepSession::Assemble(bool keep_parts) {
+  const StoreIndex previous(store_path_);
+  StoreHeader header;
+  header.name = matrix_.name;
+  header.origin = matrix_.origin;
+  header.base = matrix_.base;
+  header.matrix_source = matrix_.source;
+  header.axis_keys = matrix_.axis_keys;
+  header.num_runs = static_cast<int>(matrix_.runs.size());
+  Outcome outcome;
+  int next_id = 0;
+  WriteStore(store_path_, header, [&](StoredRun* run) {
+    if (next_id >= header.num_runs) return false;
+    const std::string part = PartPath(next_id);
+    const std::string& fp = fingerprints_[static_cast<std::size_t>(next_id)];
+    if (fs::is_regular_file(part)) {
+      *run = ReadPartFile(part, true);
+    } else if (previous.Has(fp)) {
+      *run = previous.Read(fp);
+    } else {
+      throw NumericalError("run " + std::to_string(next_id) + " has no result: neither " + part +
+                           " nor in " + store_path_);
+    }
+    run->id = next_id;
+    run->label = matrix_.runs[static_cast<std::size_t>(next_id)].Label();
+    outcome.num_failed += run->ok() ? 0 : 1;
+    ++next_id;
+    return true;
+  });
+  // WriteStore wrote FILE.h5.tmp and renamed it over FILE.h5: the old store is replaced whole.
+  std::error_code ec;
+  outcome.num_runs = header.num_runs;
+  outcome.store_path = store_path_;
+  if (!keep_parts) {
+    for (const auto& entry : fs::directory_iterator(parts_dir_)) fs::remove(entry.path(), ec);
+    fs::remove(parts_dir_, ec);
+  }
+  return outcome;
+}
+
+// ---- local sweep --------------------------------------------------------------------------
+
+SweepSession::Outcome RunSweep(const SweepMatrix& matrix, const std::string& store_path,
+                               const SweepOptions& options) {
+  RodCache rods;
+  ValidateSweep(matrix, &rods);
+  SweepSession session(matrix, store_path);
+  const std::vector<int>& pending = session.pending();
+  std::mutex event_mutex;
+  SweepEvent state;
+  state.total = static_cast<int>(matrix.runs.size());
+  state.already_done = state.total - static_cast<int>(pending.size());
+  state.to_run = static_cast<int>(pending.size());
+  if (options.on_event) options.on_event(state);
+  std::size_t cursor = 0;
+  RunOnThreads(
+      options.jobs,
+      [&]() -> std::optional<int> {
+        return cursor < pending.size() ? std::optional<int>(pending[cursor++]) : std::nullopt;
+      },
+      [&](int id) {
+        const StoredRun run = ComputeSweepRun(matrix, id, &rods);
+        session.Save(run);
+        std::lock_guard<std::mutex> lock(event_mutex);
+        state.kind = SweepEvent::Kind::kRunDone;
+        ++state.done;
+        state.failed += run.ok() ? 0 : 1;
+        state.id = id;
+        state.ok = run.ok();
+        state.label = run.label;
+        state.message = run.message;
+        state.run_seconds = run.wall_time;
+        if (options.on_event) options.on_event(state);
+      });
+  return session.Assemble(options.keep_parts);
+}
+
+}  // namespace flexrod::study

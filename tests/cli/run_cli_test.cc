@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The documented interface: `flexrod run`, `flexrod modes`, presets (examples run in CI on a
+// short horizon), exit codes and "no half-written output".
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int Flexrod(const std::string& args) {
+  const std::string cmd = std::string(FLEXROD_BINARY) + " " + args + " >/dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WEXITSTATUS(status);
+}
+
+fs::path TempDir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("flexrod_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p;
+}
+
+TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
+  for (const std::string preset : {"flexible-rig", "rigid-rig", "simeon-crank", "flexible-pendulum"}) {
+    const fs::path out = TempDir(preset);
+    const int rc = Flexrod("run " + preset + " --no-plot --set sim.settle=0.01s --set sim.capture=0.02s "
+                       "--set sim.sample_rate=2kHz --out " + out.string());
+    EXPECT_EQ(rc, 0) << preset;
+    EXPECT_TRUE(fs::exists(out / "channels.csv")) << preset;
+    EXPECT_TRUE(fs::exists(out / "resolved.toml")) << preset;
+    std::ifstream in(out / "summary.json");
+    const nlohmann::json s = nlohmann::json::parse(in);
+    EXPECT_EQ(s["integrator"]["outcome"], "completed") << preset;
+    fs::remove_all(out);
+  }
+}
+
+TEST(RunCli, ExampleFilesRunAsInputFiles) {
+  const fs::path out = TempDir("file");
+  EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) + "/examples/rigid-rig.toml --no-plot "
+                "--set sim.settle=0s --set sim.capture=0.02s --out " + out.string()), 0);
+  fs::remove_all(out);
+}
+
+TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
+  const fs::path out = TempDir("bad");
+  EXPECT_EQ(Flexrod("run --set rod.colour=red --out " + out.string()), 2);
+  EXPECT_EQ(Flexrod("run --set rod.height=-3mm --out " + out.string()), 2);
+  EXPECT_EQ(Flexrod("run --set drive.speed=fast --out " + out.string()), 2);
+  EXPECT_EQ(Flexrod("run no-such-preset --out " + out.string()), 2);
+  EXPECT_FALSE(fs::exists(out));
+  const fs::path bad_toml = TempDir("bad_toml");
+  fs::create_directories(bad_toml);
+  std::ofstream(bad_toml / "x.toml") << "[rod\nheight = ";
+  EXPECT_EQ(Flexrod("run " + (bad_toml / "x.toml").string() + " --out " + out.string()), 2);
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(bad_toml);
+}
+
+TEST(ModesCli, JsonHasTheDocumentedKeys) {
+  const fs::path dir = TempDir("modes");
+  fs::create_directories(dir);
+  const fs::path json = dir / "modes.json";
+  ASSERT_EQ(Flexrod("modes --material brass --height 12.7mm --modes 6 --json " + json.string()), 0);
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_TRUE(j.contains("modes"));
+  ASSERT_GE(j["modes"].size(), 9u);
+  for (const char* key : {"full_hz", "reduced_hz", "rel_error", "mac", "effective_mass", "rigid_body"}) {
+    EXPECT_TRUE(j["modes"][0].contains(key)) << key;
+  }
+  // Craig–Bampton frequencies are upper bounds; the first modes are accurate.
+  const double f1 = j["modes"][0]["full_hz"], r1 = j["modes"][0]["reduced_hz"];
+  EXPECT_GE(r1, f1 * (1 - 1e-12));
+  EXPECT_LT(r1 / f1 - 1, 1e-5);  // 8 fixed-interface modes
+  EXPECT_GT(j["modes"][0]["mac"].get<double>(), 0.9999);
+  EXPECT_EQ(j["inputs"]["rod.material"]["value"], "brass");
+  fs::remove_all(dir);
+}
+
+TEST(ModesCli, BadFlagsExitWithTwoAndWriteNothing) {
+  const fs::path dir = TempDir("modes_bad");
+  fs::create_directories(dir);
+  const fs::path json = dir / "m.json";
+  for (const std::string args : {"--height -3mm", "--material unobtainium", "--E abc", "--modes 5000",
+                                 "--elements 0", "--bc glued", "--reduction magic", "--interface 999",
+                                 "--length \"3 kg\""}) {
+    EXPECT_EQ(Flexrod("modes " + args + " --json " + json.string()), 2) << args;
+    EXPECT_FALSE(fs::exists(json)) << args;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(ModesCli, FreeFreeReportsRigidBodyModes) {
+  const fs::path dir = TempDir("modes_ff");
+  fs::create_directories(dir);
+  const fs::path json = dir / "m.json";
+  ASSERT_EQ(Flexrod("modes --bc free-free --reduction free-free --modes 4 --json " + json.string()), 0);
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  int rigid = 0;
+  for (const auto& m : j["modes"]) rigid += m["rigid_body"].get<bool>();
+  EXPECT_EQ(rigid, 3);
+  fs::remove_all(dir);
+}
+
+}  // namespace

@@ -1,0 +1,338 @@
+// tests/cli/sweep_cli_test.cc — `flexrod sweep` and `flexrod compare` end to end on the
+// 4-run examples/sweep-small.toml: identical stores with 1 thread, 2 threads and 2 MPI ranks;
+// a sweep killed with SIGKILL after its first finished run resumes without recomputing it and
+// ends with the store of an uninterrupted sweep; a failed run is recorded and the sweep goes
+// on; bad matrices exit with code 2 and write nothing; the Python reader finds a unit on every
+// dataset and the stored input reruns the run exactly; compare writes its tables.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "study/sweep_store.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using flexrod::study::ReadStore;
+using flexrod::study::SameResults;
+using flexrod::study::SweepStore;
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout + stderr
+};
+
+fs::path Dir() {
+  static const fs::path dir = [] {
+    const fs::path d =
+        fs::temp_directory_path() / ("flexrod_sweep_cli_" + std::to_string(getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+Result Shell(const std::string& command) {
+  const fs::path log = Dir() / "shell.log";
+  const int status = std::system((command + " > " + log.string() + " 2>&1").c_str());
+  std::ifstream in(log);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
+}
+
+Result Flexrod(const std::string& args) { return Shell(std::string(FLEXROD_BINARY) + " " + args); }
+
+std::string Small() { return std::string(FLEXROD_SOURCE_DIR) + "/examples/sweep-small.toml"; }
+
+void ExpectSameStores(const std::string& a, const std::string& b) {
+  const SweepStore x = ReadStore(a), y = ReadStore(b);
+  ASSERT_EQ(x.runs.size(), y.runs.size());
+  for (std::size_t i = 0; i < x.runs.size(); ++i) {
+    std::string why;
+    EXPECT_TRUE(SameResults(x.runs[i], y.runs[i], &why))
+        << a << " vs " << b << ", run " << i << ": " << why;
+  }
+}
+
+/// The reference store: sweep-small on one thread. ctest runs every test in its own process,
+/// so the first process to compute it publishes it under a name keyed by the binary and the
+/// matrix (rename: complete or absent), and later processes reuse it.
+std::string ReferenceStore(Result* run = nullptr) {
+  auto stamp = [](const fs::path& p) {
+    struct stat st {};
+    stat(p.c_str(), &st);
+    return std::to_string(st.st_mtim.tv_sec) + std::to_string(st.st_mtim.tv_nsec) + "_" +
+           std::to_string(st.st_size);
+  };
+  const fs::path shared =
+      fs::temp_directory_path() /
+      ("flexrod_sweep_cli_ref_" + stamp(FLEXROD_BINARY) + "_" + stamp(Small()) + ".h5");
+  if (!run && fs::exists(shared)) return shared.string();
+  const std::string local = (Dir() / "ref.h5").string();
+  const Result r =
+      Flexrod("sweep " + Small() + " --jobs 1 " + (run ? "" : "--no-plot ") + "--out " + local);
+  if (run) *run = r;
+  if (r.exit_code != 0) return local;
+  const fs::path tmp = shared.string() + "." + std::to_string(getpid());
+  fs::copy_file(local, tmp, fs::copy_options::overwrite_existing);
+  fs::rename(tmp, shared);
+  // References of older binaries are stale: remove them.
+  for (const auto& e : fs::directory_iterator(fs::temp_directory_path())) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("flexrod_sweep_cli_ref_", 0) == 0 && e.path() != shared) {
+      std::error_code ec;
+      fs::remove(e.path(), ec);
+    }
+  }
+  return local;
+}
+
+class SweepCli : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() { fs::remove_all(Dir()); }
+};
+
+TEST_F(SweepCli, SmallSweepCompletesWithTheLoadAmplificationOfEveryRun) {
+  Result run;
+  const std::string reference = ReferenceStore(&run);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("4 runs; 0 already finished; 4 to run on 1 thread"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("sweep: run 3 done"), std::string::npos);  // log lines off a terminal
+  const SweepStore s = ReadStore(reference);
+  ASSERT_EQ(s.runs.size(), 4u);
+  EXPECT_EQ(s.num_failed, 0);
+  for (const auto& run : s.runs) {
+    EXPECT_TRUE(run.ok()) << run.message;
+    // The clearance joint amplifies the ideal joint's peaks (amplification > 1 in at least one
+    // direction: the impacts add to the kinematic acceleration).
+    const double up = run.Summary("amplification_positive"),
+                 down = run.Summary("amplification_negative");
+    EXPECT_TRUE(std::isfinite(up) && std::isfinite(down)) << run.label;
+    EXPECT_GT(std::max(up, down), 1.0) << run.label;
+    EXPECT_DOUBLE_EQ(run.decimation, 2.0);  // 10 kHz record, 5 kHz store
+  }
+  EXPECT_TRUE(fs::exists(Dir() / "ref.summary.csv"));
+  EXPECT_TRUE(fs::exists(Dir() / "ref.amplification.png"));
+  EXPECT_FALSE(fs::exists(reference + ".parts"));
+}
+
+TEST_F(SweepCli, StoresAreIdenticalWithOneThreadTwoThreadsAndTwoMpiRanks) {
+  const std::string reference = ReferenceStore();
+  ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
+  const std::string two = (Dir() / "two.h5").string();
+  const Result r2 = Flexrod("sweep " + Small() + " --jobs 2 --no-plot --out " + two);
+  ASSERT_EQ(r2.exit_code, 0) << r2.output;
+  ExpectSameStores(reference, two);
+  ASSERT_TRUE(fs::exists("/usr/bin/mpirun")) << "Open MPI (Debian openmpi-bin) is needed";
+  const std::string mpi = (Dir() / "mpi.h5").string();
+  const Result rm =
+      Shell("mpirun --allow-run-as-root --oversubscribe -np 2 " + std::string(FLEXROD_BINARY) +
+            " sweep " + Small() + " --no-plot --out " + mpi);
+  ASSERT_EQ(rm.exit_code, 0) << rm.output;
+  EXPECT_NE(rm.output.find("2 MPI ranks"), std::string::npos) << rm.output;
+  ExpectSameStores(reference, mpi);
+}
+
+TEST_F(SweepCli, KilledSweepResumesWithoutRecomputingFinishedRuns) {
+  const std::string reference = ReferenceStore();
+  ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
+  const std::string store = (Dir() / "killed.h5").string();
+  const fs::path parts = store + ".parts";
+  const fs::path log = Dir() / "killed.log";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    execl(FLEXROD_BINARY, FLEXROD_BINARY, "sweep", Small().c_str(), "--jobs", "1", "--keep-parts",
+          "--no-plot", "--out", store.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // SIGKILL as soon as the first run is committed (a finished part, not a temporary).
+  std::map<std::string, struct stat> finished;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (finished.empty() && std::chrono::steady_clock::now() < deadline) {
+    if (fs::is_directory(parts)) {
+      for (const auto& e : fs::directory_iterator(parts)) {
+        if (e.path().extension() == ".h5") {
+          struct stat st {};
+          if (stat(e.path().c_str(), &st) == 0) finished[e.path().string()] = st;
+        }
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_FALSE(finished.empty()) << "no part appeared";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the sweep ended before it could be killed";
+  EXPECT_FALSE(fs::exists(store)) << "killed before assembly: no store yet";
+  // Every part there now is complete: re-list (a second run may have finished meanwhile).
+  finished.clear();
+  for (const auto& e : fs::directory_iterator(parts)) {
+    struct stat st {};
+    if (e.path().extension() == ".h5" && stat(e.path().c_str(), &st) == 0)
+      finished[e.path().string()] = st;
+  }
+  ASSERT_LT(finished.size(), 4u);
+  const Result again =
+      Flexrod("sweep " + Small() + " --jobs 1 --keep-parts --no-plot --out " + store);
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  const std::string expected = "4 runs; " + std::to_string(finished.size()) +
+                               " already finished; " + std::to_string(4 - finished.size()) +
+                               " to run";
+  EXPECT_NE(again.output.find(expected), std::string::npos) << again.output;
+  for (const auto& [path, before] : finished) {
+    struct stat after {};
+    ASSERT_EQ(stat(path.c_str(), &after), 0) << path;
+    EXPECT_EQ(before.st_ino, after.st_ino) << path << " was rewritten";
+    EXPECT_EQ(before.st_mtim.tv_sec, after.st_mtim.tv_sec) << path;
+    EXPECT_EQ(before.st_mtim.tv_nsec, after.st_mtim.tv_nsec) << path;
+  }
+  ExpectSameStores(reference, store);
+}
+
+TEST_F(SweepCli, FailedRunIsRecordedAndTheSweepGoesOn) {
+  const fs::path matrix = Dir() / "failing.toml";
+  std::ofstream(matrix)
+      << "[sweep]\nbase = \"rigid-rig\"\n[set]\nsim.settle = \"0.1 s\"\nsim.capture = \"0.2 s\"\n"
+         "sim.sample_rate = \"10 kHz\"\n[axes]\n"
+         "\"sim.rel_tol,sim.abs_tol\" = [[\"1e-300\", \"1e-300\"], [\"1e-6\", \"1e-8\"]]\n";
+  const std::string store = (Dir() / "failing.h5").string();
+  const Result r = Flexrod("sweep " + matrix.string() + " --jobs 1 --no-plot --out " + store);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("run 0 FAILED"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sweep: run 1 done"), std::string::npos) << r.output;
+  const SweepStore s = ReadStore(store);
+  EXPECT_EQ(s.num_failed, 1);
+  EXPECT_FALSE(s.runs[0].ok());
+  EXPECT_FALSE(s.runs[0].message.empty());
+  EXPECT_TRUE(s.runs[1].ok());
+}
+
+TEST_F(SweepCli, BadMatrixExitsWithCode2AndWritesNothing) {
+  struct Case {
+    std::string text, expect;
+  };
+  const std::vector<Case> cases = {
+      {"[sweep]\nbase = \"rigid-rig\"\n[axes]\n\"rod.colour\" = [\"red\"]\n", "rod.colour"},
+      {"[sweep]\nbase = \"rigid-rig\"\n[axes]\n\"drive.speed\" = []\n", "at least one value"},
+      {"[sweep]\nbase = \"rigid-rig\"\n[axes\n", "malformed TOML"},
+      {"[sweep]\nbase = \"rigid-rig\"\n[axes]\n\"rod.material\" = [\"steel\", \"wood\"]\n",
+       "rod.material = wood"},
+      {"[sweep]\nbase = \"rigid-rig\"\n[store]\nchannels = \"slider_jerk\"\n",
+       "store.channels = slider_jerk"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const fs::path matrix = Dir() / ("bad" + std::to_string(i) + ".toml");
+    std::ofstream(matrix) << cases[i].text;
+    const std::string store = (Dir() / ("bad" + std::to_string(i) + ".h5")).string();
+    const Result r = Flexrod("sweep " + matrix.string() + " --no-plot --out " + store);
+    EXPECT_EQ(r.exit_code, 2) << cases[i].text << r.output;
+    EXPECT_NE(r.output.find(cases[i].expect), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(store));
+    EXPECT_FALSE(fs::exists(store + ".parts")) << cases[i].text;
+  }
+  EXPECT_EQ(Flexrod("sweep " + Small() + " --out " + (Dir() / "x.txt").string()).exit_code, 2);
+  EXPECT_EQ(Flexrod("sweep no-such-matrix.toml").exit_code, 2);
+  EXPECT_EQ(Flexrod("sweep " + Small() + " --jobs -1").exit_code, 2);
+}
+
+TEST_F(SweepCli, DefaultMatrixListsTheTable2Runs) {
+  const Result r = Flexrod("sweep --list");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("table2: 189 runs"), std::string::npos);
+  EXPECT_NE(r.output.find("  188  rod.material=steel, rod.height=25.4 mm, joint.clearance=1.0 mm, "
+                          "drive.speed=200 rpm"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST_F(SweepCli, ReaderFindsAUnitOnEveryDatasetAndTheStoredInputRerunsTheRun) {
+  const std::string reference = ReferenceStore();
+  ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
+  const std::string reader = std::string(FLEXROD_PYTHON) + " " + FLEXROD_SOURCE_DIR +
+                             "/examples/read_store.py " + reference;
+  const Result units = Shell(reader + " --check-units");
+  ASSERT_EQ(units.exit_code, 0) << units.output;
+  EXPECT_NE(units.output.find(" 0 without a unit"), std::string::npos) << units.output;
+  const Result listing = Shell(reader);
+  ASSERT_EQ(listing.exit_code, 0) << listing.output;
+  EXPECT_NE(listing.output.find("rod.height=19.05 mm, drive.speed=250 rpm"), std::string::npos)
+      << listing.output;
+  // Run 2 again from its stored input: the same peak, bit for bit (runs are deterministic).
+  const fs::path input = Dir() / "run2.toml";
+  const Result stored_input = Shell(reader + " --input 2");
+  ASSERT_EQ(stored_input.exit_code, 0) << stored_input.output;
+  EXPECT_NE(stored_input.output.find("\"joint.type\" = \"clearance\""), std::string::npos)
+      << stored_input.output;
+  std::ofstream(input) << stored_input.output;
+  const Result rerun =
+      Flexrod("run " + input.string() + " --no-plot --out " + (Dir() / "run2").string());
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  std::ifstream in(Dir() / "run2" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  const SweepStore s = ReadStore(reference);
+  EXPECT_EQ(summary["slider_acceleration"]["peak_positive"].get<double>(),
+            s.runs[2].Summary("peak_positive"));
+  EXPECT_EQ(summary["slider_acceleration"]["peak_negative"].get<double>(),
+            s.runs[2].Summary("peak_negative"));
+}
+
+TEST_F(SweepCli, CompareWritesTheTablesOfEveryComparisonAndItsPlots) {
+  const std::string reference = ReferenceStore();
+  ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
+  const fs::path out = Dir() / "compare";
+  const Result r = Flexrod("compare " + reference + " --group I --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "comparisons.md"));
+  for (int n = 1; n <= 12; ++n) {
+    const std::string stem =
+        (out / ((n < 10 ? "comparison_0" : "comparison_") + std::to_string(n))).string();
+    EXPECT_TRUE(fs::exists(stem + ".md") && fs::exists(stem + ".csv") &&
+                fs::exists(stem + "_points.csv"))
+        << stem;
+  }
+  EXPECT_FALSE(fs::exists(out / "comparison_13.md"));  // group II not asked for
+  // Comparison 3 (steel 12.7 / 19.05 / 25.4, 0.5 mm, negative): sweep-small has two of its rods.
+  std::ifstream csv(out / "comparison_03.csv");
+  std::string text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("steel 12.7 mm,2,0,"), std::string::npos) << text;
+  EXPECT_NE(text.find("steel 19.05 mm,2,0,"), std::string::npos) << text;
+  EXPECT_NE(text.find("-,steel 25.4 mm,0,0,0"), std::string::npos) << text;
+  EXPECT_NE(r.output.find("comparison  3 (group I): Thesis trend"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "comparison_03_scatter.png"));
+  EXPECT_TRUE(fs::exists(out / "comparison_03_plan.png"));
+  // Bad options: exit 2, nothing written.
+  EXPECT_EQ(
+      Flexrod("compare " + reference + " --group IV --out " + (Dir() / "c2").string()).exit_code,
+      2);
+  EXPECT_EQ(Flexrod("compare " + reference + " --comparison 26 --out " + (Dir() / "c2").string())
+                .exit_code,
+            2);
+  EXPECT_EQ(
+      Flexrod("compare " + (Dir() / "missing.h5").string() + " --out " + (Dir() / "c2").string())
+          .exit_code,
+      2);
+  EXPECT_FALSE(fs::exists(Dir() / "c2"));
+}
+
+}  // namespace

@@ -1,0 +1,142 @@
+// tests/multibody/failure_test.cc — numerical failures are returned as a status with the
+// time reached, the state (norms, worst residual and local-error components named) and a
+// hint, and every sample produced before the failure is kept (STYLE.md §12).
+// SPDX-License-Identifier: GPL-3.0-or-later
+#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "mb_test_util.h"
+#include "multibody/simulate.h"
+
+namespace flexrod::multibody {
+namespace {
+
+using testing::BuildRigidSliderCrank;
+using testing::SliderCrankGuess;
+using testing::SliderCrankParams;
+
+// A force element whose force stops being computable after t_break (as a contact law
+// whose penetration leaves its validity range would): Evaluate reports a recoverable failure.
+class BreaksDownAt final : public ForceElement {
+ public:
+  explicit BreaksDownAt(double t_break) : t_break_(t_break) {}
+  bool Evaluate(double t, const MarkerKinematics&, const MarkerKinematics&, const double*,
+                const double*, ElementOutput*) const override {
+    return t <= t_break_;
+  }
+  std::string type_name() const override { return "breaks-down"; }
+
+ private:
+  double t_break_;
+};
+
+struct Collected {
+  std::vector<double> times;
+};
+
+SimulationCallbacks Collect(Collected* c) {
+  SimulationCallbacks cb;
+  cb.on_sample = [c](const SampleView& s) { c->times.push_back(s.t()); };
+  return cb;
+}
+
+TEST(IntegratorFailure, ElementBreakdownReturnsTimeStateHintAndKeepsSamples) {
+  SliderCrankParams P;
+  // Rebuild the slider-crank with the failing element between the crank pin and the ground.
+  MechanismBuilder b;
+  const BodyId crank = b.AddRigidBody({"crank", 0.5, 1e-4, Vec2(0.025, 0.0)});
+  const MarkerId o = b.AddGroundMarker("O", Vec2(0.0, 0.0));
+  const MarkerId far = b.AddGroundMarker("far", Vec2(1.0, 0.0));
+  const MarkerId c_o = b.AddBodyMarker(crank, "crank.O", Vec2(0.0, 0.0));
+  const MarkerId c_a = b.AddBodyMarker(crank, "crank.A", Vec2(0.05, 0.0));
+  b.AddRevolute("pivot", o, c_o);
+  b.AddConstantSpeedDriver("motor", crank, 0.0, 20.0);
+  const double t_break = 0.05;
+  b.AddForceElement("fragile", far, c_a, std::make_shared<BreaksDownAt>(t_break));
+  const Mechanism m = b.Build();
+  RunData data(m);
+  SimulationOptions opt;
+  opt.t_end = 0.2;
+  opt.sample_rate = 1000.0;
+  opt.max_steps = 20000;
+  Collected c;
+  const SimulationStatus st = Simulate(m, &data, InitialConditionSpec{}, opt, Collect(&c));
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.outcome, SimulationOutcome::kIntegratorFailure) << st.Summary();
+  EXPECT_NEAR(st.t_reached, t_break, 1e-3);
+  EXPECT_LE(st.t_reached, t_break + 1e-12);
+  EXPECT_FALSE(st.message.empty());
+  EXPECT_FALSE(st.hint.empty());
+  EXPECT_GT(st.norm_velocities, 0.0);
+  EXPECT_GE(st.worst_error_index, -1);
+  // Samples up to the failure are kept: one per millisecond up to t_reached.
+  ASSERT_FALSE(c.times.empty());
+  EXPECT_EQ(static_cast<long>(c.times.size()), st.num_samples);
+  EXPECT_LE(c.times.back(), st.t_reached + 1e-12);
+  EXPECT_EQ(static_cast<long>(c.times.size()),
+            static_cast<long>(std::floor(st.t_reached * 1000.0 + 1e-9)) + 1);
+  const std::string summary = st.Summary();
+  EXPECT_NE(summary.find("hint"), std::string::npos);
+}
+
+// rel_tol = 1e-17 is below the unit round-off: IDA reports that it cannot deliver it.
+TEST(IntegratorFailure, AbsurdToleranceIsReportedWithAHint) {
+  SliderCrankParams P;
+  auto sc = BuildRigidSliderCrank(P);
+  RunData data(sc.model);
+  SimulationOptions opt;
+  opt.t_end = 0.1;
+  opt.sample_rate = 1000.0;
+  opt.integrator.rel_tol = 1e-17;
+  opt.integrator.abs_tol = 1e-20;
+  opt.max_steps = 5000;
+  Collected c;
+  const SimulationStatus st = Simulate(sc.model, &data, SliderCrankGuess(sc, P), opt, Collect(&c));
+  ASSERT_FALSE(st.ok());
+  EXPECT_LT(st.t_reached, opt.t_end);
+  EXPECT_FALSE(st.hint.empty());
+  EXPECT_GE(c.times.size(), 1u);  // the t = 0 sample at least
+  EXPECT_GT(st.norm_coordinates, 0.0);
+  EXPECT_FALSE(st.worst_residual_variable.empty()) << st.Summary();
+}
+
+TEST(IntegratorFailure, StepBudgetStopsTheRunAndKeepsSamples) {
+  SliderCrankParams P;
+  auto sc = BuildRigidSliderCrank(P);
+  RunData data(sc.model);
+  SimulationOptions opt;
+  opt.t_end = 1.0;
+  opt.sample_rate = 1e4;
+  opt.max_steps = 40;
+  Collected c;
+  const SimulationStatus st = Simulate(sc.model, &data, SliderCrankGuess(sc, P), opt, Collect(&c));
+  EXPECT_EQ(st.outcome, SimulationOutcome::kStepLimit);
+  EXPECT_GT(st.t_reached, 0.0);
+  EXPECT_LT(st.t_reached, 1.0);
+  EXPECT_EQ(st.stats.steps, 40);
+  EXPECT_EQ(static_cast<long>(c.times.size()),
+            static_cast<long>(std::floor(st.t_reached * 1e4 + 1e-9)) + 1);
+}
+
+// A slider line 0.3 m away from a 0.05 m crank with a 0.2 m rod cannot be assembled.
+TEST(IntegratorFailure, ImpossibleAssemblyIsAnInitialConditionFailure) {
+  SliderCrankParams P;
+  P.e = 0.3;
+  auto sc = BuildRigidSliderCrank(P);
+  RunData data(sc.model);
+  SimulationOptions opt;
+  opt.t_end = 0.1;
+  Collected c;
+  InitialConditionSpec ic;
+  ic.coordinates = Vec::Zero(sc.model.num_coordinates());
+  SetBodyPose(sc.model, sc.crank, Vec2::Zero(), P.theta0, &ic.coordinates);
+  const SimulationStatus st = Simulate(sc.model, &data, ic, opt, Collect(&c));
+  EXPECT_EQ(st.outcome, SimulationOutcome::kInitialConditionFailure);
+  EXPECT_NE(st.message.find("initial conditions"), std::string::npos) << st.message;
+  EXPECT_TRUE(c.times.empty());
+}
+
+}  // namespace
+}  // namespace flexrod::multibody
