@@ -16,6 +16,7 @@ int Main(int argc, char** argv) {
   Handler handler;
   RegisterModes(app, &handler);
   RegisterRun(app, &handler);
+  RegisterStudy(app, &handler);
   RegisterContact(app, &handler);
   RegisterSweep(app, &handler);
   RegisterCompare(app, &handler);

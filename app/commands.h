@@ -17,6 +17,7 @@ using Handler = std::function<int()>;
 
 void RegisterModes(CLI::App& app, Handler* handler);
 void RegisterRun(CLI::App& app, Handler* handler);
+void RegisterStudy(CLI::App& app, Handler* handler);
 void RegisterContact(CLI::App& app, Handler* handler);
 void RegisterSweep(CLI::App& app, Handler* handler);
 void RegisterCompare(CLI::App& app, Handler* handler);

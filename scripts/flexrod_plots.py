@@ -160,12 +160,35 @@ def plot_compare(directory, max_points=20000):
         save(fig2, stem + "_plan.png")
 
 
+def plot_study(directory):
+    """Bar plot of the peak slider acceleration of every case in DIR/table.csv, and the
+    slider acceleration of every case against its ideal twin (one panel per case)."""
+    with open(os.path.join(directory, "table.csv"), newline="") as f:
+        rows = list(csv.reader(f))
+    header, rows = rows[0], rows[1:]
+    peak_col = header.index("peak abs slider acc. [m/s^2]")
+    labels = [r[0] + " / " + r[1] for r in rows]
+    peaks = [float(r[peak_col]) if r[peak_col] not in ("n/a", "") else float("nan") for r in rows]
+    fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(rows)), 4.5))
+    ax.bar(range(len(rows)), peaks, color="C0")
+    ax.set_xticks(range(len(rows)))
+    ax.set_xticklabels(labels, rotation=70, ha="right", fontsize=8)
+    ax.set_ylabel("peak |slider acceleration| [m/s^2]")
+    ax.set_yscale("log")
+    ax.grid(True, axis="y", alpha=0.3)
+    fig.tight_layout()
+    save(fig, os.path.join(directory, "peaks.png"))
+
+
 def main(argv):
     if len(argv) < 3:
         print(__doc__, file=sys.stderr)
         return 2
     if argv[1] == "run":
         plot_run(argv[2])
+        return 0
+    if argv[1] == "study":
+        plot_study(argv[2])
         return 0
     if argv[1] == "sweep" and len(argv) >= 4:
         plot_sweep(argv[2], argv[3])

@@ -111,3 +111,24 @@ TEST(ModesCli, FreeFreeReportsRigidBodyModes) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
+  const fs::path out = TempDir("study");
+  ASSERT_EQ(Flexrod("study rigid-rig-friction --no-plot --set sim.settle=0s --set sim.capture=0.05s "
+                    "--set sim.sample_rate=5kHz --out " + out.string()),
+            0);
+  std::ifstream in(out / "table.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 1 + 6);  // header + clearance {0.5, 1.0} × friction {0.2, 0.4, 0.6}
+  EXPECT_TRUE(fs::exists(out / "table.md"));
+  EXPECT_TRUE(fs::exists(out / "c1.0mm-mu0.6" / "summary.json"));
+  fs::remove_all(out);
+  EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()), 2);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace

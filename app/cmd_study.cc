@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `flexrod study rigid-rig-laws` (thesis §3.3: every normal law at 101 and 177 rpm, 1 mm
+// clearance) and `flexrod study rigid-rig-friction` (thesis §3.4 / Fig. 39: clearance 0.5 and
+// 1.0 mm × joint friction 0.2, 0.4, 0.6). Each writes a Markdown and a CSV table, and the runs'
+// channels for the plots, into --out.
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "app/commands.h"
+#include "app/plotting.h"
+#include "common/error.h"
+#include "common/files.h"
+#include "contact/normal_law.h"
+#include "study/presets.h"
+#include "study/run.h"
+
+namespace flexrod::app {
+namespace {
+
+struct StudyOptions {
+  std::string name;
+  std::string out_dir{"out/study"};
+  std::vector<std::string> sets;
+  bool no_plot{false};
+};
+
+std::string Num(const nlohmann::json& j) {
+  if (j.is_null()) return "n/a";
+  std::ostringstream os;
+  os.precision(4);
+  os << j.get<double>();
+  return os.str();
+}
+
+void WriteTables(const std::string& dir, const std::string& title, const std::vector<std::string>& header,
+                 const std::vector<std::vector<std::string>>& rows) {
+  std::ostringstream md, csv;
+  md << "# " << title << "\n\n|";
+  for (const auto& h : header) md << " " << h << " |";
+  md << "\n|";
+  for (size_t i = 0; i < header.size(); ++i) md << "---|";
+  md << "\n";
+  for (size_t i = 0; i < header.size(); ++i) csv << (i ? "," : "") << header[i];
+  csv << "\n";
+  for (const auto& r : rows) {
+    md << "|";
+    for (const auto& c : r) md << " " << c << " |";
+    md << "\n";
+    for (size_t i = 0; i < r.size(); ++i) csv << (i ? "," : "") << r[i];
+    csv << "\n";
+  }
+  WriteFileAtomic(dir + "/table.md", md.str());
+  WriteFileAtomic(dir + "/table.csv", csv.str());
+  std::fputs(md.str().c_str(), stdout);
+}
+
+/// One case of a study: the rigid-rig preset with the given overrides, written to dir/<tag>.
+std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag,
+                                 const std::vector<std::string>& sets) {
+  Config cfg;
+  cfg.LoadToml(FindPreset("rigid-rig")->toml, "rigid-rig");
+  for (const std::string& s : sets) cfg.SetAssignment(s);
+  for (const std::string& s : opt.sets) cfg.SetAssignment(s);
+  const auto t0 = std::chrono::steady_clock::now();
+  const RunResult r = RunSimulation(cfg);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  WriteRunFiles(opt.out_dir + "/" + tag, cfg, r);
+  const auto& s = r.summary;
+  auto get = [&](const char* a, const char* b) {
+    return s.contains(a) && s[a].contains(b) ? Num(s[a][b]) : std::string("n/a");
+  };
+  std::string peak = "n/a";
+  if (s.contains("slider_acceleration")) {
+    peak = Num(std::max(s["slider_acceleration"]["peak_positive"].get<double>(),
+                        s["slider_acceleration"]["peak_negative"].get<double>()));
+  }
+  return {multibody::ToString(r.status.outcome), peak, get("load_amplification", "slider_acceleration_positive"),
+          get("load_amplification", "slider_acceleration_negative"), get("impacts", "per_revolution"),
+          get("impacts", "max_peak_force [N]"), Num(wall)};
+}
+
+int RunStudy(const StudyOptions& opt) {
+  EnsureDirectory("--out", opt.out_dir);
+  const std::vector<std::string> cols = {"outcome", "peak abs slider acc. [m/s^2]", "amplification +",
+                                         "amplification -", "impacts per rev.", "peak bearing force [N]",
+                                         "wall [s]"};
+  std::vector<std::vector<std::string>> rows;
+  if (opt.name == "rigid-rig-laws") {
+    for (const std::string& law : contact::NormalLawNames()) {
+      for (const char* rpm : {"101", "177"}) {
+        const std::string tag = law + "-" + rpm + "rpm";
+        std::fprintf(stderr, "study: %s\n", tag.c_str());
+        std::vector<std::string> row = {law, rpm};
+        const auto res = RunCase(opt, tag, {"joint.type=clearance", "joint.clearance=1 mm", "joint.law=" + law,
+                                            "drive.speed=" + std::string(rpm) + " rpm"});
+        row.insert(row.end(), res.begin(), res.end());
+        rows.push_back(row);
+      }
+    }
+    std::vector<std::string> header = {"law", "speed [rpm]"};
+    header.insert(header.end(), cols.begin(), cols.end());
+    WriteTables(opt.out_dir, "Rigid rig, 1 mm clearance: every normal law (thesis section 3.3)", header, rows);
+  } else {
+    for (const char* c : {"0.5", "1.0"}) {
+      for (const char* mu : {"0.2", "0.4", "0.6"}) {
+        const std::string tag = std::string("c") + c + "mm-mu" + mu;
+        std::fprintf(stderr, "study: %s\n", tag.c_str());
+        std::vector<std::string> row = {c, mu};
+        const auto res = RunCase(opt, tag, {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
+                                            std::string("joint.friction=") + mu});
+        row.insert(row.end(), res.begin(), res.end());
+        rows.push_back(row);
+      }
+    }
+    std::vector<std::string> header = {"clearance [mm]", "friction [-]"};
+    header.insert(header.end(), cols.begin(), cols.end());
+    WriteTables(opt.out_dir, "Rigid rig: clearance x joint friction (thesis section 3.4, Fig. 39)", header, rows);
+  }
+  if (!opt.no_plot) RunPlotScript({"study", opt.out_dir});
+  return 0;
+}
+
+}  // namespace
+
+void RegisterStudy(CLI::App& app, Handler* handler) {
+  auto opt = std::make_shared<StudyOptions>();
+  CLI::App* cmd = app.add_subcommand("study", "the rigid-rig studies of the thesis (chapter 3)");
+  cmd->add_option("name", opt->name, "rigid-rig-laws | rigid-rig-friction")
+      ->required()
+      ->check(CLI::IsMember({"rigid-rig-laws", "rigid-rig-friction"}));
+  cmd->add_option("--out", opt->out_dir, "output directory")->capture_default_str();
+  cmd->add_option("--set", opt->sets, "override a key of every run, e.g. --set sim.capture=\"1 s\"")->take_all();
+  cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plots");
+  cmd->callback([opt, handler] { *handler = [opt] { return RunStudy(*opt); }; });
+}
+
+}  // namespace flexrod::app
