@@ -71,6 +71,7 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
   const RunResult r = RunSimulation(cfg);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   WriteRunFiles(opt.out_dir + "/" + tag, cfg, r);
+  if (!opt.no_plot) PlotRun(opt.out_dir + "/" + tag);  // slider acceleration against the ideal twin
   const auto& s = r.summary;
   auto get = [&](const char* a, const char* b) {
     return s.contains(a) && s[a].contains(b) ? Num(s[a][b]) : std::string("n/a");

@@ -134,23 +134,30 @@ void Run(const std::string& label, const Crank& c, double t_end, double rel_tol,
               100 * s.linear_solve_seconds / w, 100 * st.output_seconds / w, 100 * other / w);
   std::printf("  per step: %.2f us; per sample (output): %.3f us\n", 1e6 * w / s.steps,
               1e6 * st.output_seconds / std::max(1L, st.num_samples));
+  std::fflush(stdout);
 }
 
-int Main() {
+// Usage: bench_mb_rigid_crank [rigid|flexible|full|all] (default all).
+int Main(const std::string& which) {
   const double revolution = 2.0 * std::numbers::pi / kOmega;
-  Run("rigid slider-crank, 10 revolutions at 200 rpm, 100 kHz output", Build(nullptr),
+  const bool all = which == "all";
+  if (all || which == "rigid") Run("rigid slider-crank, 10 revolutions at 200 rpm, 100 kHz output", Build(nullptr),
       10.0 * revolution, 1e-6);
-  Run("flexible slider-crank (Craig-Bampton, 8 modes, band damping), 4 s at 100 kHz",
+  if (all || which == "flexible") Run("flexible slider-crank (Craig-Bampton, 8 modes, band damping), 4 s at 100 kHz",
       Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0, 1e-6);
-  Run("  same at rel_tol 1e-7", Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0,
+  if (all || which == "flexible") Run("  same at rel_tol 1e-7", Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0,
       1e-7);
-  const Crank full = Build(SteelRod(40, fem::ReductionMethod::kFull, 0));
-  Run("full-FE rod (40 elements), 0.1 s, dense LU", full, 0.1, 1e-6, LinearSolverKind::kDense);
-  Run("full-FE rod (40 elements), 0.1 s, KLU", full, 0.1, 1e-6, LinearSolverKind::kKlu);
+  if (all || which == "full") {
+    const Crank full = Build(SteelRod(40, fem::ReductionMethod::kFull, 0));
+    Run("full-FE rod (40 elements), 0.1 s, dense LU", full, 0.1, 1e-6, LinearSolverKind::kDense);
+    Run("full-FE rod (40 elements), 0.1 s, KLU", full, 0.1, 1e-6, LinearSolverKind::kKlu);
+  }
   return 0;
 }
 
 }  // namespace
 }  // namespace flexrod::multibody
 
-int main() { return flexrod::multibody::Main(); }
+int main(int argc, char** argv) {
+  return flexrod::multibody::Main(argc > 1 ? argv[1] : "all");
+}

@@ -389,6 +389,11 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   I.atol = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
   I.tmp = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
   I.tmp2 = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
+  // Fused vector operations (off by default for serial vectors) make IDAGetDky and the BDF
+  // bookkeeping single passes over memory; IDA's internal vectors are clones of y and inherit.
+  for (N_Vector v : {I.y, I.yp, I.tmp, I.tmp2}) {
+    CheckFlag(N_VEnableFusedOps_Serial(v, SUNTRUE), "N_VEnableFusedOps_Serial");
+  }
   std::memcpy(NV_DATA_S(I.y), y0, sizeof(double) * n);
   std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
   system_->DifferentialMask(NV_DATA_S(I.id));
