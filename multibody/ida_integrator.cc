@@ -491,6 +491,50 @@ void IdaIntegrator::DenseOutput(double t, int k, double* out) {
   std::memcpy(out, NV_DATA_S(impl_->tmp), sizeof(double) * impl_->n);
 }
 
+void IdaIntegrator::CacheStepPolynomial() {
+  FLEXROD_ASSERT(initialized_);
+  Impl& I = *impl_;
+  const int n = I.n;
+  int k = 0;
+  CheckFlag(IDAGetLastOrder(I.mem, &k), "IDAGetLastOrder");
+  realtype tn = 0.0, hu = 0.0;
+  CheckFlag(IDAGetCurrentTime(I.mem, &tn), "IDAGetCurrentTime");
+  CheckFlag(IDAGetLastStep(I.mem, &hu), "IDAGetLastStep");
+  poly_.resize(static_cast<size_t>(k + 1) * n);
+  double factorial = 1.0;
+  for (int j = 0; j <= k; ++j) {
+    if (j > 0) factorial *= j;
+    CheckFlag(IDAGetDky(I.mem, tn, j, I.tmp), "IDAGetDky");
+    const double* d = NV_DATA_S(I.tmp);
+    double* row = poly_.data() + static_cast<size_t>(j) * n;
+    for (int i = 0; i < n; ++i) row[i] = d[i] / factorial;
+  }
+  poly_order_ = k;
+  poly_tn_ = tn;
+  poly_t0_ = tn - hu;
+}
+
+void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp) const {
+  FLEXROD_ASSERT(poly_order_ >= 0);
+  const int n = impl_->n, k = poly_order_;
+  const double s = t - poly_tn_;
+  const double* c = poly_.data();
+  // Horner over the coefficient rows (inner loops over components vectorise):
+  // y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}.
+  const double* top = c + static_cast<size_t>(k) * n;
+  for (int i = 0; i < n; ++i) {
+    y[i] = top[i];
+    yp[i] = 0.0;
+  }
+  for (int j = k - 1; j >= 0; --j) {
+    const double* row = c + static_cast<size_t>(j) * n;
+    for (int i = 0; i < n; ++i) {
+      yp[i] = yp[i] * s + y[i];
+      y[i] = y[i] * s + row[i];
+    }
+  }
+}
+
 const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }
 const double* IdaIntegrator::yp() const { return NV_DATA_S(impl_->yp); }
 

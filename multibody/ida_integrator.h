@@ -150,6 +150,16 @@ class IdaIntegrator {
   StepResult Step(double tout);
   /// Dense output: k = 0 state, k = 1 derivative, at t within the last step.
   void DenseOutput(double t, int k, double* out);
+  /// Caches IDA's interpolating polynomial of the last step (degree k_used) as Taylor
+  /// coefficients D^j y(t_n)/j!, j = 0..k_used, from k_used + 1 calls of IDAGetDky at t_n.
+  /// EvaluateStepPolynomial then gives y(t) and ẏ(t) for any t of the last step by Horner's
+  /// rule without calling IDA — the same polynomial IDAGetDky evaluates, for a fraction of
+  /// its cost when many output samples fall into one step.
+  void CacheStepPolynomial();
+  void EvaluateStepPolynomial(double t, double* y, double* yp) const;
+  /// Validity interval [t_n − h_used, t_n] of the cached polynomial.
+  double polynomial_start() const { return poly_t0_; }
+  double polynomial_end() const { return poly_tn_; }
   /// State and derivative returned by the last Step.
   const double* y() const;
   const double* yp() const;
@@ -173,6 +183,9 @@ class IdaIntegrator {
   LinearSolverKind solver_kind_{LinearSolverKind::kDense};
   std::string last_message_;
   bool initialized_{false};
+  std::vector<double> poly_;   // (k_used + 1) × N Taylor coefficients, row j = D^j y / j!
+  int poly_order_{-1};
+  double poly_tn_{0.0}, poly_t0_{0.0};
 };
 
 }  // namespace flexrod::multibody

@@ -530,13 +530,16 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   auto emit_up_to = [&](double t_ret, bool from_dense) {
     if (!grid_active) return;
     const auto w0 = Clock::now();
+    bool cached = false;
     for (;;) {
       const double ts = grid_start + static_cast<double>(k_next) * dt;
       if (ts > t_ret + t_fuzz || ts > t_end + t_fuzz) break;
       if (from_dense) {
-        const double te = std::min(ts, t_ret);
-        ida.DenseOutput(te, 0, ybuf.data());
-        ida.DenseOutput(te, 1, ypbuf.data());
+        if (!cached) {
+          ida.CacheStepPolynomial();  // one set of IDAGetDky calls per step, not per sample
+          cached = true;
+        }
+        ida.EvaluateStepPolynomial(std::min(ts, t_ret), ybuf.data(), ypbuf.data());
         emit(ts, ybuf.data(), ypbuf.data());
       } else {
         emit(ts, state.y.data(), state.yp.data());

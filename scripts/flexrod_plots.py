@@ -55,6 +55,8 @@ def plot_run(directory):
         ax.set_xlim(0, 360)
         ax.grid(True, alpha=0.3)
         save(fig, os.path.join(directory, "slider_acceleration.png"))
+    if "crank_angle [rad]" in cols:
+        plot_run_analysis(directory, cols)
     strains = [h for h in cols if h.startswith("strain_")]
     if strains:
         fig, ax = plt.subplots(figsize=(9, 4.5))
@@ -158,6 +160,85 @@ def plot_compare(directory, max_points=20000):
         ax2.grid(True, alpha=0.3)
         save(fig3, stem + "_scatter.png")
         save(fig2, stem + "_plan.png")
+
+
+def plot_run_analysis(directory, cols):
+    """Spectrum, Poincare map, journal orbit and bearing force of one run."""
+    import numpy as np
+
+    t = np.asarray(cols["time [s]"])
+    acc = np.asarray(cols["slider_acceleration [m/s^2]"])
+    theta = np.asarray(cols["crank_angle [rad]"])
+    rate = (len(t) - 1) / (t[-1] - t[0]) if len(t) > 1 else 1.0
+    # Amplitude spectrum, Hann window, amplitude-corrected (a sine of amplitude A reads A).
+    w = np.hanning(len(acc))
+    amp = 2.0 * np.abs(np.fft.rfft(acc * w)) / w.sum()
+    freq = np.fft.rfftfreq(len(acc), 1.0 / rate)
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    ax.semilogy(freq[1:], amp[1:], lw=0.6)
+    ax.set_xlim(0, min(freq[-1], 5000.0))
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("amplitude of slider acceleration [m/s^2]")
+    ax.grid(True, alpha=0.3)
+    save(fig, os.path.join(directory, "spectrum.png"))
+    # Poincare map: one point per revolution where the crank passes the index angle (0).
+    k = np.floor(theta / (2 * np.pi))
+    idx = np.nonzero(np.diff(k) > 0)[0] + 1
+    if len(idx) > 0:
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        if "journal_eccentricity [m]" in cols:
+            e = np.asarray(cols["journal_eccentricity [m]"])
+            ax.plot(1e3 * e[idx], acc[idx], "o", ms=3)
+            ax.set_xlabel("journal eccentricity at the index [mm]")
+        else:
+            ax.plot(np.arange(len(idx)), acc[idx], "o", ms=3)
+            ax.set_xlabel("revolution")
+        ax.set_ylabel("slider acceleration at the index [m/s^2]")
+        ax.grid(True, alpha=0.3)
+        save(fig, os.path.join(directory, "poincare.png"))
+    if "journal_eccentricity_x [m]" in cols:
+        ex = 1e3 * np.asarray(cols["journal_eccentricity_x [m]"])
+        ey = 1e3 * np.asarray(cols["journal_eccentricity_y [m]"])
+        c = clearance_mm(directory)
+        fig, ax = plt.subplots(figsize=(5.5, 5.5))
+        if c:
+            phi = np.linspace(0, 2 * np.pi, 361)
+            ax.plot(c * np.cos(phi), c * np.sin(phi), "k-", lw=0.8, label="clearance circle")
+        ax.plot(ex, ey, lw=0.4, label="journal centre")
+        ax.set_aspect("equal")
+        ax.set_xlabel("eccentricity x [mm]")
+        ax.set_ylabel("eccentricity y [mm]")
+        ax.legend(loc="upper right", fontsize=8)
+        save(fig, os.path.join(directory, "journal_orbit.png"))
+    force = None
+    if "bearing_force [N]" in cols:
+        force = np.asarray(cols["bearing_force [N]"])
+    elif "contact_normal_force [N]" in cols:
+        fn = np.asarray(cols["contact_normal_force [N]"])
+        ft = np.asarray(cols.get("contact_friction_force [N]", [0.0] * len(fn)))
+        force = np.hypot(fn, ft)
+    if force is not None:
+        fig, ax = plt.subplots(figsize=(9, 4.5))
+        ax.plot(np.degrees(np.mod(theta, 2 * np.pi)), force, ",")
+        ax.set_xlim(0, 360)
+        ax.set_xlabel("crank angle [deg]")
+        ax.set_ylabel("small-end bearing force [N]")
+        ax.grid(True, alpha=0.3)
+        save(fig, os.path.join(directory, "bearing_force.png"))
+
+
+def clearance_mm(directory):
+    path = os.path.join(directory, "resolved.toml")
+    if not os.path.exists(path):
+        return None
+    section = ""
+    for line in open(path):
+        line = line.split("#")[0].strip()
+        if line.startswith("["):
+            section = line.strip("[]")
+        elif section == "joint" and line.startswith("clearance"):
+            return 1e3 * float(line.split("=")[1])
+    return None
 
 
 def plot_study(directory):
