@@ -26,6 +26,16 @@ struct Handle {  // closes any hid_t with the given closer
   }
 };
 
+/// The "unit" string attribute of a dataset.
+void WriteUnit(hid_t set, const std::string& unit, const std::string& name) {
+  Handle ts{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(ts.id, unit.size());
+  Handle as{H5Screate(H5S_SCALAR), H5Sclose};
+  Handle attr{Check(H5Acreate2(set, "unit", ts.id, as.id, H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2", name + ".unit"),
+              H5Aclose};
+  CheckStatus(H5Awrite(attr.id, ts.id, unit.c_str()), "H5Awrite", name + ".unit");
+}
+
 void SilenceErrors() {
   static bool done = false;
   if (!done) {
@@ -114,15 +124,7 @@ void Node::WriteMatrix(const std::string& name, const Mat& m, const std::string&
     CheckStatus(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rm.data()), "H5Dwrite",
                 name);
   }
-  if (!unit.empty()) {
-    Handle ts{H5Tcopy(H5T_C_S1), H5Tclose};
-    H5Tset_size(ts.id, unit.size());
-    Handle as{H5Screate(H5S_SCALAR), H5Sclose};
-    Handle attr{Check(H5Acreate2(set.id, "unit", ts.id, as.id, H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2",
-                      name + ".unit"),
-                H5Aclose};
-    CheckStatus(H5Awrite(attr.id, ts.id, unit.c_str()), "H5Awrite", name + ".unit");
-  }
+  if (!unit.empty()) WriteUnit(set.id, unit, name);
 }
 
 Mat Node::ReadMatrix(const std::string& name) const {
@@ -159,15 +161,7 @@ void Node::WriteVector(const std::string& name, const Vec& v, const std::string&
     CheckStatus(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "H5Dwrite",
                 name);
   }
-  if (!unit.empty()) {
-    Handle ts{H5Tcopy(H5T_C_S1), H5Tclose};
-    H5Tset_size(ts.id, unit.size());
-    Handle as{H5Screate(H5S_SCALAR), H5Sclose};
-    Handle attr{Check(H5Acreate2(set.id, "unit", ts.id, as.id, H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2",
-                      name + ".unit"),
-                H5Aclose};
-    CheckStatus(H5Awrite(attr.id, ts.id, unit.c_str()), "H5Awrite", name + ".unit");
-  }
+  if (!unit.empty()) WriteUnit(set.id, unit, name);
 }
 
 Vec Node::ReadVector(const std::string& name) const {
