@@ -149,8 +149,8 @@ int Main(const std::string& which) {
       1e-7);
   if (all || which == "full") {
     const Crank full = Build(SteelRod(40, fem::ReductionMethod::kFull, 0));
-    Run("full-FE rod (40 elements), 0.1 s, dense LU", full, 0.1, 1e-6, LinearSolverKind::kDense);
-    Run("full-FE rod (40 elements), 0.1 s, KLU", full, 0.1, 1e-6, LinearSolverKind::kKlu);
+    Run("full-FE rod (40 elements), 0.01 s, dense LU", full, 0.01, 1e-6, LinearSolverKind::kDense);
+    Run("full-FE rod (40 elements), 0.01 s, KLU", full, 0.01, 1e-6, LinearSolverKind::kKlu);
   }
   return 0;
 }

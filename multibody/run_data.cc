@@ -81,10 +81,8 @@ RunData::RunData(const Mechanism& m) : model(&m) {
     es.Gen_i = Mat::Zero(3, ni);
     es.Gen_j = Mat::Zero(3, nj);
     es.T = Mat::Zero(7 + ns, nbmax);
-    es.TT = Mat::Zero(nbmax, nbmax);
   }
   Q = Vec::Zero(m.num_coordinates());
-  gv_scratch = Vec::Zero(m.num_constraints());
   element_memory.assign(m.num_element_memory(), 0.0);
 }
 

@@ -62,7 +62,6 @@ struct ElementScratch {
   Mat Kp_i, Kv_i, Kp_j, Kv_j; ///< ∂κ_m/∂p_b, ∂κ_m/∂v_b (6 × nb)
   Mat Gen_i, Gen_j;           ///< [Jr; Jφ] (3 × nb)
   Mat T;                      ///< scratch (7 + ns) × nb_max
-  Mat TT;                     ///< scratch nb_max × nb_max
 };
 
 /// Sizes a body's scratch for body b (used by RunData and the stand-alone kernels).
@@ -78,7 +77,6 @@ class RunData {
   std::vector<JointScratch> joints;
   std::vector<ElementScratch> elements;
   Vec Q;                            ///< applied generalized forces (np)
-  Vec gv_scratch;                   ///< nc
   /// Per-run element memory (ForceElement::num_memory each, at ElementSlot::memory_offset).
   std::vector<double> element_memory;
   /// Mechanical energy + dissipated − work at the start of the run: the energy balance

@@ -373,6 +373,22 @@ int MechanismDae::Roots(double t, const double* y, const double* /*yp*/, double*
   return 0;
 }
 
+double AutoVelocityTolScale(const Mechanism& model) {
+  auto elastic = [&model](int marker) {
+    const Marker& m = model.markers()[marker];
+    return m.body >= 0 && m.active_slots.size() > 3;  // moves with some elastic coordinate
+  };
+  for (const Joint& j : model.joints()) {
+    if (j.kind != JointKind::kGround && (elastic(j.marker_i) || elastic(j.marker_j))) {
+      return kElasticJointVelocityTolScale;
+    }
+  }
+  for (const ElementSlot& e : model.elements()) {
+    if (elastic(e.marker_i) || elastic(e.marker_j)) return kElasticJointVelocityTolScale;
+  }
+  return 1.0;
+}
+
 // ---- SampleView -----------------------------------------------------------------------------------------
 SampleView::SampleView(const Mechanism& model, RunData* data, double t, const double* y,
                        const double* yp)
@@ -419,7 +435,7 @@ void SimulationOptions::Validate(const Mechanism& model) const {
   RequirePositive("simulation.sample_rate", sample_rate);
   Require(std::isfinite(sample_start), "simulation.sample_start", sample_start, "must be finite");
   RequireNonNegative("simulation.max_steps", static_cast<double>(max_steps));
-  RequirePositive("simulation.velocity_tol_scale", velocity_tol_scale);
+  RequireNonNegative("simulation.velocity_tol_scale", velocity_tol_scale);
   RequirePositive("simulation.energy_tol_scale", energy_tol_scale);
   if (start_sampling_at_index && !index_event.has_value()) {
     throw InputError("simulation.start_sampling_at_index", "true", "needs an index_event");
@@ -456,6 +472,11 @@ std::string SimulationStatus::Summary() const {
       os << "\n  largest weighted local error " << worst_weighted_error << " at "
          << worst_error_variable;
     }
+  }
+  if (stats.steps > 1000 && stats.error_test_failures > stats.steps / 2) {
+    os << "\n  note: error-test failures on most steps (" << stats.error_test_failures << " of "
+       << stats.steps << "): stiff elastic coordinates coupled to joints keep the step near "
+          "1/|lambda_max|; raise velocity_tol_scale or change rel_tol";
   }
   os << "\n  steps " << stats.steps << ", residuals " << stats.residual_evaluations
      << ", Jacobians " << stats.jacobian_evaluations << ", Newton iterations "
@@ -496,7 +517,9 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   Require(t_end > t0, "simulation.t_end", t_end, "must be > the start time of the state");
 
   SimulationStatus status;
-  MechanismDae dae(model, data, options.index_event, options.velocity_tol_scale,
+  status.velocity_tol_scale = options.velocity_tol_scale > 0.0 ? options.velocity_tol_scale
+                                                               : AutoVelocityTolScale(model);
+  MechanismDae dae(model, data, options.index_event, status.velocity_tol_scale,
                    options.energy_tol_scale);
   IdaIntegrator ida(&dae, options.integrator);
   status.linear_solver = ida.linear_solver();

@@ -74,7 +74,7 @@ struct IndexEventSpec {
 class MechanismDae final : public DaeSystem {
  public:
   MechanismDae(const Mechanism& model, RunData* data, std::optional<IndexEventSpec> index,
-               double velocity_tol_scale = 1e3, double energy_tol_scale = 1.0);
+               double velocity_tol_scale = 1.0, double energy_tol_scale = 1.0);
   int size() const override { return model_.size(); }
   int num_roots() const override;
   void DifferentialMask(double* id) const override;
@@ -95,6 +95,24 @@ class MechanismDae final : public DaeSystem {
 };
 
 // ---- run loop -------------------------------------------------------------------------------------
+/// Velocity tolerance scale [1/s] for models where joints or force elements act on elastic
+/// coordinates. A position error δp implies a velocity error ω·δp in a mode of angular
+/// frequency ω. When stiff elastic coordinates enter joint constraints, tolerance-level
+/// position errors of the rigid-body coordinates excite them, and IDA's (unfiltered) error
+/// estimate of their velocities pins the step near 1/|λ_max| with an error-test failure on
+/// nearly every step (a joint on the rod's frame node: 480 steps; the same joint on its
+/// elastic tip: 93 743 steps). Measured on the flexible slider-crank (steel Craig–Bampton rod,
+/// 8 modes, band damping, 4 s): scale 1e2 trapped at every rel_tol in 1e-5..1e-8, 1e3 at
+/// 1e-5 and 1e-8, 1e4 and 1e5 never (1000–9000 steps). Accuracy cost against a 1e-10
+/// reference (0.5 s): slider acceleration 1e-3 (1e3) / 7e-3 (1e4) at rel_tol 1e-7, 2e-4 /
+/// 3e-3 at 1e-8 — tighten rel_tol for accelerations. The extreme 10⁴-stiffer rod traps at 1e4
+/// and runs at 1e3: the trap depends on where the accuracy-limited step falls relative to the
+/// stiff eigenvalues; SimulationStatus::Summary() flags it.
+inline constexpr double kElasticJointVelocityTolScale = 1e4;
+/// 1 if every joint and force-element marker moves only with frame coordinates (rigid bodies,
+/// frame points of flexible bodies), kElasticJointVelocityTolScale otherwise.
+double AutoVelocityTolScale(const Mechanism& model);
+
 struct SimulationOptions {
   double t_start{0.0};          ///< [s]
   double t_end{1.0};            ///< [s], > t_start
@@ -106,14 +124,9 @@ struct SimulationOptions {
   std::optional<IndexEventSpec> index_event;
   IntegratorOptions integrator;
   long max_steps{0};            ///< integrator steps allowed for the run; 0 = unlimited
-  /// Absolute tolerance of the velocities v = abs_tol · velocity_tol_scale [1/s], > 0. A
-  /// position error δp implies a velocity error ω·δp in a mode of angular frequency ω. When
-  /// stiff elastic coordinates enter joint constraints, position errors of the rigid-body
-  /// coordinates excite them at tolerance level, and velocity tolerances equal to the
-  /// position tolerances pin the BDF step to 1/ω_max (measured on a flexible slider-crank,
-  /// rel_tol 1e-6: 59066 steps per 0.3 s at 1, 659 at 1e3; slider acceleration within 1 %
-  /// and 0.2 % of a 1e-10 reference at rel_tol 1e-6 and 1e-7). Default 1e3 s⁻¹.
-  double velocity_tol_scale{1e3};
+  /// Absolute tolerance of the velocities v = abs_tol · velocity_tol_scale [1/s], >= 0;
+  /// 0 (default) = AutoVelocityTolScale(model). See kElasticJointVelocityTolScale.
+  double velocity_tol_scale{0.0};
   double energy_tol_scale{1.0};    ///< abs tolerance of the energy quadratures = abs_tol · this, > 0
   void Validate(const Mechanism& model) const;
 };
@@ -185,6 +198,7 @@ struct SimulationStatus {
   std::vector<IndexCrossing> index_crossings;
   IntegratorStats stats;
   LinearSolverKind linear_solver{LinearSolverKind::kDense};
+  double velocity_tol_scale{1.0}; ///< the velocity tolerance scale used [1/s]
   double wall_seconds{0.0};       ///< whole run [s]
   double output_seconds{0.0};     ///< dense output + observer callbacks [s]
   bool ok() const { return outcome == SimulationOutcome::kCompleted; }
