@@ -35,7 +35,8 @@ Result Run(const std::string& method, int modes, int elements) {
   for (double a : r.channels.values("slider_acceleration")) acc = std::max(acc, std::abs(a));
   for (double d : r.channels.values("rod_deflection")) defl = std::max(defl, std::abs(d));
   int n = 0;
-  while (r.channels.HasChannel("q" + std::to_string(n + 1))) ++n;
+  // (std::string("q") += ... avoids GCC 12's false -Wrestrict on "literal" + std::string&&)
+  while (r.channels.HasChannel(std::string("q") += std::to_string(n + 1))) ++n;
   return {n, acc, defl, wall};
 }
 

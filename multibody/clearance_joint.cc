@@ -184,6 +184,18 @@ LawState ClearanceJoint::LawStateOf(const double* z, const double* memory) const
   return s;
 }
 
+bool ClearanceJoint::InContact(const contact::ClearanceKinematics& k, const double* memory) const {
+  return memory[kContactFlag] > 0.5 && k.normal_defined && k.penetration > 0.0;
+}
+
+double ClearanceJoint::NormalForce(const contact::ClearanceKinematics& k, bool in_contact,
+                                   const LawState& s, const double* memory) const {
+  if (!in_contact) return 0.0;
+  return contact::CalcNormalForce(normal_law_, k.penetration, k.penetration_rate,
+                                  memory[kApproachVelocity], s)
+      .force;
+}
+
 ClearanceResponse ClearanceJoint::CalcResponse(const MarkerKinematics& bush,
                                                const MarkerKinematics& pin, const double* z,
                                                const double* memory) const {
@@ -191,15 +203,12 @@ ClearanceResponse ClearanceJoint::CalcResponse(const MarkerKinematics& bush,
   r.kinematics = Kinematics(geometry_, bush, pin);
   const contact::ClearanceKinematics& k = r.kinematics;
   const double delta = k.penetration, rate = k.penetration_rate;
-  r.in_contact = memory[kContactFlag] > 0.5 && k.normal_defined && delta > 0.0;
   r.approach_velocity = memory[kApproachVelocity];
   const LawState s = LawStateOf(z, memory);
 
   // Normal force, its state and its energy.
-  if (r.in_contact) {
-    r.normal_force =
-        contact::CalcNormalForce(normal_law_, delta, rate, r.approach_velocity, s).force;
-  }
+  r.in_contact = InContact(k, memory);
+  r.normal_force = NormalForce(k, r.in_contact, s, memory);
   double state_rate = 0.0;
   if (normal_state_ >= 0) {
     state_rate = NormalStateRate(normal_law_, r.in_contact, delta, s);
@@ -258,7 +267,12 @@ bool ClearanceJoint::Evaluate(double /*t*/, const MarkerKinematics& bush,
 
 double ClearanceJoint::PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin,
                                        const double* z, const double* memory) const {
-  return CalcResponse(bush, pin, z, memory).potential_energy;
+  // The normal part of CalcResponse only: energies are sampled at the output rate.
+  const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
+  const bool in_contact = InContact(k, memory);
+  const LawState s = LawStateOf(z, memory);
+  const double force = NormalForce(k, in_contact, s, memory);
+  return CalcElasticEnergy(normal_law_, in_contact, k.penetration, s, force).energy;
 }
 
 void ClearanceJoint::Roots(double /*t*/, const MarkerKinematics& bush,

@@ -147,6 +147,10 @@ class ClearanceJoint final : public ForceElement {
 
  private:
   contact::LawState LawStateOf(const double* z, const double* memory) const;
+  bool InContact(const contact::ClearanceKinematics& k, const double* memory) const;
+  /// Normal force [N] (0 when not in contact), without friction or loads.
+  double NormalForce(const contact::ClearanceKinematics& k, bool in_contact,
+                     const contact::LawState& s, const double* memory) const;
 
   contact::ContactGeometry geometry_;
   contact::NormalLaw normal_law_;

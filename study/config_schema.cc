@@ -143,6 +143,13 @@ const std::vector<ParamDef>& Schema() {
        "strain gauge positions along the rod from the big-end clamp [m], comma-separated"},
       {"output.midspan", K::kQuantity, D::kLength, "0",
        "position of the deflection probe along the rod [m]; 0 = midspan"},
+      // ---- ParaView output of one run (`flexrod run --vtk DIR`; study/vtk.h) ----
+      {"vtk.rate", K::kQuantity, D::kFrequency, "1 kHz",
+       "frame rate of the --vtk animation [Hz], > 0; a frame every round(sim.sample_rate / rate)-th sample"},
+      {"vtk.scale", K::kQuantity, D::kDimensionless, "100",
+       "scale of the drawn rod's deflection from the chord of its end nodes [1], >= 0; 1 = true shape, 0 = straight"},
+      {"vtk.duration", K::kQuantity, D::kTime, "0",
+       "window of the --vtk animation from the capture start [s], >= 0; 0 = the whole capture"},
       // ---- `flexrod modes` (modal analysis of one rod) ----
       {"modes.dim", K::kChoice, D::kDimensionless, "planar", "element family", {"planar", "spatial"}},
       {"modes.bc", K::kChoice, D::kDimensionless, "clamped-free",

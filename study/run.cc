@@ -5,8 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "common/error.h"
 #include "common/files.h"
@@ -265,7 +268,7 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
 namespace {
 
 RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
-                 MechanismModel* model_out) {
+                 MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr) {
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
@@ -325,9 +328,15 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   const double rate = opt.sample_rate;
   const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
   rec.Reserve(static_cast<size_t>(max_samples));
+  // ParaView frames ride on the same samples: capture sample k is offered before it is recorded.
+  std::optional<study::VtkRecorder> vtk;
+  if (vtk_options) vtk.emplace(cfg, mm, *vtk_options, rate);
   multibody::SimulationCallbacks cb;
   cb.on_sample = [&](const SampleView& s) {
-    if (static_cast<long>(rec.size()) < max_samples) rec.Record(s);
+    if (static_cast<long>(rec.size()) < max_samples) {
+      if (vtk) vtk->Offer(static_cast<long>(rec.size()), s);
+      rec.Record(s);
+    }
   };
 
   RunResult out;
@@ -371,6 +380,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     out.status = multibody::Simulate(m, &data, ic, opt, cb);
   }
   out.channels = rec.Finish(rate);
+  if (vtk) out.vtk = vtk->Finish();
   out.summary = Summarise(out.channels, cfg, mm);
   out.summary["gauges"] = gauges;
   if (mm.clearance.index >= 0 && out.channels.num_samples() > 2) {
@@ -400,6 +410,23 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   return out;
 }
 
+/// Throws InputError(key, dir, ...) unless `dir` is a directory or could be created as one
+/// (its nearest existing ancestor is a writable directory). Creates nothing: bad input
+/// writes nothing.
+void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p = fs::absolute(dir, ec);
+  if (ec) throw InputError(key, dir, "is not a usable path: " + ec.message());
+  while (!fs::exists(p, ec) && p.has_parent_path() && p.parent_path() != p) p = p.parent_path();
+  if (!fs::is_directory(p, ec)) {
+    throw InputError(key, dir, "cannot be a directory: " + p.string() + " is not a directory");
+  }
+  if (::access(p.c_str(), W_OK) != 0) {
+    throw InputError(key, dir, "cannot be created or written: " + p.string() + " is not writable");
+  }
+}
+
 /// Peak of the bearing force: the ideal joint's reaction, or the clearance joint's contact
 /// force sqrt(Fn² + Ft²).
 std::vector<double> BearingForce(const study::TimeSeries& ts) {
@@ -420,9 +447,16 @@ std::vector<double> BearingForce(const study::TimeSeries& ts) {
 
 }  // namespace
 
-RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint) {
+RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
+                        const RunOutputOptions& outputs) {
+  std::optional<study::VtkOptions> vtk_options;
+  if (outputs.record_vtk || !outputs.vtk_dir.empty()) {
+    vtk_options = study::VtkOptions::FromConfig(cfg);  // bad vtk.* keys fail before any work
+    if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
+  }
   MechanismModel mm;
-  RunResult out = RunOne(cfg, rod, ideal_joint, &mm);
+  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr);
+  if (out.vtk && !outputs.vtk_dir.empty()) out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
   if (!clearance || out.channels.num_samples() < 3) return out;
   // The ideal-joint twin: same mechanism, same rod, same capture window.

@@ -17,6 +17,7 @@
 #include "study/slider_crank.h"
 #include "study/impact_log.h"
 #include "study/timeseries.h"
+#include "study/vtk.h"
 
 namespace flexrod {
 
@@ -27,7 +28,21 @@ struct RunResult {
                                           ///< and load_amplification for clearance runs
   std::optional<study::TimeSeries> ideal; ///< the ideal-joint twin's channels (clearance runs)
   std::vector<study::Impact> impacts;     ///< impact log of the captured window (clearance runs)
+  std::optional<study::VtkSeries> vtk;    ///< ParaView frames of the captured window, if requested
+  std::string vtk_collection;             ///< path of the written .pvd, "" if none was written
   bool ok() const { return status.ok(); }
+};
+
+/// Optional outputs of a run beyond the channels. Sweeps use the defaults (nothing extra).
+struct RunOutputOptions {
+  /// Record ParaView frames (vtk.* keys, study/vtk.h) of the captured window of the run (not
+  /// of its ideal-joint twin) into RunResult::vtk.
+  bool record_vtk{false};
+  /// If non-empty: record them (implies record_vtk) and write them into this directory as
+  /// run_NNNNNN.vtu + run.pvd after the run (also after a numerical failure: the frames up to
+  /// it). The vtk.* keys and the directory (it must exist or be creatable) are checked before
+  /// any work starts; the directory is created only when the frames are written.
+  std::string vtk_dir;
 };
 
 /// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces an ideal
@@ -36,7 +51,7 @@ struct RunResult {
 /// direction (and on the per-revolution 95th percentiles), and the bearing-force ratio.
 /// A numerical failure is reported in the status; the channels up to it are kept.
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod = nullptr,
-                        bool ideal_joint = false);
+                        bool ideal_joint = false, const RunOutputOptions& outputs = {});
 
 /// Writes resolved.toml, channels.csv, summary.json (and impacts.csv, ideal/channels.csv for
 /// clearance runs) into `dir`.

@@ -608,6 +608,7 @@ std::string Fnv1aHex(const std::string& bytes) {
 std::string RunFingerprint(const Config& cfg, const StoreOptions& store) {
   std::string text = "flexrod sweep run v1\n";
   for (const Config::Resolved& r : cfg.Resolve()) {
+    if (r.key.rfind("vtk.", 0) == 0) continue;  // ParaView output of single runs: no effect on results
     text += r.key + "=" + r.value + " " + r.unit + (r.is_default ? "" : " set") +
             "\n";  // set vs default can differ
   }

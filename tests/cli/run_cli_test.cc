@@ -2,12 +2,15 @@
 // The documented interface: `flexrod run`, `flexrod modes`, presets (examples run in CI on a
 // short horizon), exit codes and "no half-written output".
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -42,7 +45,7 @@ TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
 }
 
 TEST(RunCli, ExampleFilesRunAsInputFiles) {
-  const fs::path out = TempDir("file");
+  const fs::path out = TempDir("vtk_file");
   EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) + "/examples/rigid-rig.toml --no-plot "
                 "--set sim.settle=0s --set sim.capture=0.02s --out " + out.string()), 0);
   fs::remove_all(out);
@@ -129,6 +132,57 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
   fs::remove_all(out);
   EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()), 2);
   EXPECT_FALSE(fs::exists(out));
+}
+
+// `flexrod run --vtk DIR`: the ParaView output of one run, and its bad-input path.
+TEST(RunCli, VtkWritesACollectionOfExistingFrames) {
+  const fs::path root = TempDir("vtk_run");
+  const fs::path vtk = root / "vtk";
+  ASSERT_EQ(Flexrod("run rigid-rig --set sim.settle=\"0 s\" --set sim.capture=\"0.1 s\" --vtk " +
+                    vtk.string() + " --no-plot --out " + (root / "out").string()),
+            0);
+  ASSERT_TRUE(fs::exists(vtk / "run.pvd"));
+  std::ifstream in(vtk / "run.pvd");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string pvd = ss.str();
+  const std::regex entry("<DataSet timestep=\"([^\"]+)\"[^>]*file=\"([^\"]+)\"");
+  int count = 0;
+  double last = -1.0;
+  for (auto it = std::sregex_iterator(pvd.begin(), pvd.end(), entry); it != std::sregex_iterator();
+       ++it) {
+    EXPECT_TRUE(fs::exists(vtk / (*it)[2].str())) << (*it)[2].str();
+    const double t = std::stod((*it)[1].str());
+    EXPECT_GT(t, last);
+    last = t;
+    ++count;
+  }
+  // 0.1 s captured at the preset's 100 kHz, one frame per 100 samples (vtk.rate = 1 kHz).
+  EXPECT_EQ(count, 100);
+  fs::remove_all(root);
+}
+
+TEST(RunCli, BadVtkKeyExitsWithTwoAndWritesNoCollection) {
+  const fs::path root = TempDir("vtk_bad");
+  EXPECT_EQ(Flexrod("run rigid-rig --set vtk.scale=-1 --set sim.settle=\"0 s\" --set "
+                    "sim.capture=\"0.01 s\" --vtk " +
+                    (root / "vtk").string() + " --no-plot --out " + (root / "out").string()),
+            2);
+  // Bad input writes nothing, not even the directories.
+  EXPECT_FALSE(fs::exists(root));
+  fs::remove_all(root);
+}
+
+TEST(RunCli, VtkDirectoryThatCannotExistExitsWithTwo) {
+  const fs::path root = TempDir("vtk_file");
+  fs::create_directories(root);
+  std::ofstream(root / "plain") << "x";
+  EXPECT_EQ(
+      Flexrod("run rigid-rig --set sim.settle=\"0 s\" --set sim.capture=\"0.01 s\" --vtk " +
+              (root / "plain" / "vtk").string() + " --no-plot --out " + (root / "out").string()),
+      2);
+  EXPECT_FALSE(fs::exists(root / "out"));
+  fs::remove_all(root);
 }
 
 }  // namespace
