@@ -45,7 +45,7 @@ TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
 }
 
 TEST(RunCli, ExampleFilesRunAsInputFiles) {
-  const fs::path out = TempDir("vtk_file");
+  const fs::path out = TempDir("file");
   EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) + "/examples/rigid-rig.toml --no-plot "
                 "--set sim.settle=0s --set sim.capture=0.02s --out " + out.string()), 0);
   fs::remove_all(out);
