@@ -123,7 +123,9 @@ class IntegratorFailure : public NumericalError {
   double t_;
 };
 
-enum class StepOutcome { kStep, kRoot, kStopTime };
+/// kRootStall: IDA cannot continue past a root function that stays exactly zero after a root
+/// return; the caller re-initialises at StepResult::t (the solution is the last one returned).
+enum class StepOutcome { kStep, kRoot, kStopTime, kRootStall };
 struct StepResult {
   StepOutcome outcome{StepOutcome::kStep};
   double t{0.0};   ///< time returned by IDA (the root time for kRoot)

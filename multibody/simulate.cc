@@ -606,11 +606,16 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   roots = roots_found.data();
   const int index_root = dae.index_root();
   double t_now = t0;
+  int stalls = 0;                    // consecutive kRootStall re-initialisations
+  constexpr int kMaxRootStalls = 3;
 
   try {
     for (;;) {
       const StepResult res = ida.Step(t_end);
-      t_now = res.t;
+      if (res.outcome != StepOutcome::kRootStall) {
+        t_now = res.t;
+        stalls = 0;
+      }
       if (res.outcome == StepOutcome::kStep) ++steps;
       emit_up_to(t_now, true);
       if (res.outcome == StepOutcome::kRoot) {
@@ -648,6 +653,18 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
           }
         }
         if (must_restart && t_end - t_now > t_fuzz) restart(t_now);
+      } else if (res.outcome == StepOutcome::kRootStall) {
+        // y still holds the solution at the last return (IDA has not stepped since).
+        if (++stalls > kMaxRootStalls) {
+          throw IntegratorFailure("IDA cannot continue past a root function that stays zero at t = " +
+                                      FormatValue(t_now) + " s (" + std::to_string(kMaxRootStalls) +
+                                      " re-initialisations did not help)",
+                                  -22, "IDA_ILL_INPUT", t_now);
+        }
+        yev = Eigen::Map<const Vec>(ida.y(), N);
+        restart(t_now);
+        ++status.root_stall_restarts;
+        continue;
       } else if (res.outcome == StepOutcome::kStopTime) {
         if (stop_index + 1 >= stops.size() || t_end - t_now <= t_fuzz) break;  // t_end reached
         ++stop_index;

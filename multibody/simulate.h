@@ -195,6 +195,7 @@ struct SimulationStatus {
   std::string worst_error_variable;
   double worst_weighted_error{0.0};
   long num_samples{0};
+  long root_stall_restarts{0};    ///< re-initialisations past a root function stuck at zero
   std::vector<IndexCrossing> index_crossings;
   IntegratorStats stats;
   LinearSolverKind linear_solver{LinearSolverKind::kDense};

@@ -202,6 +202,7 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st) {
           {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
           {"error_test_failures", st.stats.error_test_failures},
           {"roots_found", st.stats.roots_found},
+          {"root_stall_restarts", st.root_stall_restarts},
           {"linear_solver", multibody::ToString(st.linear_solver)},
           {"wall_time [s]", st.wall_seconds},
           {"residual_time [s]", st.stats.residual_seconds},
