@@ -95,6 +95,16 @@ std::vector<SampleRange> SplitRevolutions(std::span<const double> crank_angle, d
   std::vector<SampleRange> revolutions;
   std::size_t previous = 0;
   bool have_previous = false;
+  // A crossing belongs to sample i when θ[i−1] < L ≤ θ[i]. Sample 0 has no predecessor: take
+  // θ[−1] = 2θ[0] − θ[1]. A capture triggered at the index angle starts on the crossing, with
+  // θ[0] at L up to round-off; without this, which side of L the round-off falls on decided
+  // whether the first revolution was counted.
+  if (range.begin == 0 && crank_angle.size() >= 2) {
+    const double before = 2.0 * crank_angle[0] - crank_angle[1];
+    if (RevolutionNumber(before, index_angle) < RevolutionNumber(crank_angle[0], index_angle)) {
+      have_previous = true;
+    }
+  }
   // Crossing samples in [begin, end]: a crossing at sample `end` closes the last revolution.
   // Rates and times do not matter here.
   ScanCrossings(crank_angle, index_angle, 1.0, 0.0, range.begin, range.end + 1,

@@ -148,6 +148,23 @@ TEST(Revolutions, OnlyCompleteRevolutionsInsideTheRangeAreKept) {
   EXPECT_EQ(SplitRevolutions(theta, 0.0, {40, 130}).size(), 0u);
 }
 
+TEST(Revolutions, ACaptureStartingOnTheIndexCountsItsFirstRevolution) {
+  // A capture triggered at the index angle: θ_0 = L up to round-off. Whichever side of L the
+  // round-off puts θ_0, five revolutions are complete in 560 samples (crossings at 0 or 1,
+  // 100 or 101, ..., 500 or 501).
+  for (const double offset : {0.0, 1e-9, -1e-9}) {
+    std::vector<double> theta(560);
+    for (std::size_t i = 0; i < theta.size(); ++i) {
+      theta[i] = 0.3 + kTwoPi * (static_cast<double>(i) + offset) / 100.0;
+    }
+    const std::vector<SampleRange> revs = SplitRevolutions(theta, 0.3, {0, 560});
+    ASSERT_EQ(revs.size(), 5u) << offset;
+    EXPECT_EQ(revs.front().begin, offset < 0.0 ? 1u : 0u) << offset;
+    // 100 samples each, ±1 where round-off moves a later crossing by one sample (offset 0).
+    for (const SampleRange& r : revs) EXPECT_NEAR(double(r.end - r.begin), 100.0, 1.0) << offset;
+  }
+}
+
 // ---- Poincaré map and jitter ------------------------------------------------------------------
 
 // Record of x = f(θ, revolution) with the crank at 2 rev/s sampled at `rate`.
