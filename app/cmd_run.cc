@@ -25,6 +25,14 @@ struct RunOptions {
   bool no_plot{false};
 };
 
+/// A summary ratio to 4 significant digits; "n/a" when absent or null (undefined ratio).
+std::string Ratio(const nlohmann::json& object, const char* key) {
+  if (!object.contains(key) || !object[key].is_number()) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", object[key].get<double>());
+  return buf;
+}
+
 Config LoadInput(const std::string& input, const std::vector<std::string>& sets) {
   Config cfg;
   const Preset* p = input.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(input);  // sweep-* are matrices
@@ -67,14 +75,13 @@ int Run(const RunOptions& opt) {
     const auto& a = s["load_amplification"];
     std::printf("  load amplification (real / ideal joint): slider acceleration +%s / -%s (p95 of per-rev peaks: "
                 "+%s / -%s), bearing force %s\n",
-                a["slider_acceleration_positive"].dump().c_str(), a["slider_acceleration_negative"].dump().c_str(),
-                a["slider_acceleration_positive_p95"].dump().c_str(),
-                a["slider_acceleration_negative_p95"].dump().c_str(),
-                a.contains("bearing_force") ? a["bearing_force"].dump().c_str() : "n/a");
+                Ratio(a, "slider_acceleration_positive").c_str(), Ratio(a, "slider_acceleration_negative").c_str(),
+                Ratio(a, "slider_acceleration_positive_p95").c_str(),
+                Ratio(a, "slider_acceleration_negative_p95").c_str(), Ratio(a, "bearing_force").c_str());
   }
   if (s.contains("rod")) {
     std::printf("  rod: peak gauge stress %.4g MPa, safety factor against yield %s\n",
-                s["rod"]["peak_gauge_stress [Pa]"].get<double>() * 1e-6, s["rod"]["safety_factor"].dump().c_str());
+                s["rod"]["peak_gauge_stress [Pa]"].get<double>() * 1e-6, Ratio(s["rod"], "safety_factor").c_str());
   }
   if (s.contains("energy")) {
     std::printf("  energy balance error: %.3g J (%.3g of peak kinetic energy)\n",
