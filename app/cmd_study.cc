@@ -83,7 +83,7 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
   }
   return {multibody::ToString(r.status.outcome), peak, get("load_amplification", "slider_acceleration_positive"),
           get("load_amplification", "slider_acceleration_negative"), get("impacts", "per_revolution"),
-          get("impacts", "max_peak_force [N]"), Num(wall)};
+          get("load_amplification", "bearing_force_peak_real [N]"), Num(wall)};
 }
 
 int RunStudy(const StudyOptions& opt) {
