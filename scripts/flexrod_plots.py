@@ -42,7 +42,12 @@ def plot_run(directory):
     cols = read_csv(os.path.join(directory, "channels.csv"))
     ideal_path = os.path.join(directory, "ideal", "channels.csv")
     ideal = read_csv(ideal_path) if os.path.exists(ideal_path) else None
-    if "crank_angle [rad]" in cols:
+    # A run's CSV may hold a selection of channels (output.channels): draw what it has.
+    need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
+    has_main = all(h in cols for h in need)
+    if ideal is not None and not all(h in ideal for h in need):
+        ideal = None
+    if has_main:
         fig, ax = plt.subplots(figsize=(9, 4.5))
         ang = [math.degrees(a % (2 * math.pi)) for a in cols["crank_angle [rad]"]]
         ax.plot(ang, cols["slider_acceleration [m/s^2]"], ",", color="C0", label="model")
@@ -55,7 +60,7 @@ def plot_run(directory):
         ax.set_xlim(0, 360)
         ax.grid(True, alpha=0.3)
         save(fig, os.path.join(directory, "slider_acceleration.png"))
-    if "crank_angle [rad]" in cols:
+    if has_main:
         plot_run_analysis(directory, cols)
     strains = [h for h in cols if h.startswith("strain_")]
     if strains:
@@ -196,7 +201,7 @@ def plot_run_analysis(directory, cols):
         ax.set_ylabel("slider acceleration at the index [m/s^2]")
         ax.grid(True, alpha=0.3)
         save(fig, os.path.join(directory, "poincare.png"))
-    if "journal_eccentricity_x [m]" in cols:
+    if "journal_eccentricity_x [m]" in cols and "journal_eccentricity_y [m]" in cols:
         ex = 1e3 * np.asarray(cols["journal_eccentricity_x [m]"])
         ey = 1e3 * np.asarray(cols["journal_eccentricity_y [m]"])
         c = clearance_mm(directory)

@@ -143,6 +143,12 @@ const std::vector<ParamDef>& Schema() {
        "strain gauge positions along the rod from the big-end clamp [m], comma-separated"},
       {"output.midspan", K::kQuantity, D::kLength, "0",
        "position of the deflection probe along the rod [m]; 0 = midspan"},
+      {"output.channels", K::kText, D::kDimensionless, "all",
+       "channels written to a run's channels.csv (and ideal/channels.csv), comma-separated, or all; "
+       "the summary and plots always use every channel"},
+      {"output.rate", K::kQuantity, D::kFrequency, "0",
+       "sample rate of a run's CSV files [Hz]; every n-th sample (no filtering), must divide "
+       "sim.sample_rate; 0 = sim.sample_rate"},
       // ---- ParaView output of one run (`flexrod run --vtk DIR`; study/vtk.h) ----
       {"vtk.rate", K::kQuantity, D::kFrequency, "1 kHz",
        "frame rate of the --vtk animation [Hz], > 0; a frame every round(sim.sample_rate / rate)-th sample"},

@@ -54,6 +54,7 @@ class Recorder {
     for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s, cache_));
   }
   size_t size() const { return values_.empty() ? 0 : values_[0].size(); }
+  const std::vector<std::string>& names() const { return names_; }
   void Reserve(size_t n) {
     for (auto& v : values_) v.reserve(n);
   }
@@ -70,6 +71,63 @@ class Recorder {
   SampleCache cache_;
   double first_t_{0.0};
 };
+
+/// What a run's CSV files hold: output.channels (empty = all) every `stride`-th sample
+/// (output.rate). `available` (if given) are the run's channel names, checked against the
+/// selection; throws InputError naming the key, the value and the rule.
+struct CsvSelection {
+  std::vector<std::string> channels;
+  std::size_t stride{1};
+};
+
+CsvSelection ReadCsvSelection(const Config& cfg, double sample_rate,
+                              const std::vector<std::string>* available) {
+  CsvSelection sel;
+  const std::string list = cfg.Text("output.channels");
+  if (list != "all") {
+    std::stringstream ss(list);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      item.erase(0, item.find_first_not_of(" \t"));
+      item.erase(item.find_last_not_of(" \t") + 1);
+      if (item.empty()) continue;
+      if (available && std::find(available->begin(), available->end(), item) == available->end()) {
+        std::string names;
+        for (const std::string& n : *available) names += (names.empty() ? "" : ", ") + n;
+        throw InputError("output.channels", item, "is not a channel of this run; channels: " + names);
+      }
+      sel.channels.push_back(item);
+    }
+    if (sel.channels.empty()) throw InputError("output.channels", "\"" + list + "\"", "names no channel; use all or a list");
+  }
+  const double rate = cfg.Quantity("output.rate");
+  RequireNonNegative("output.rate", rate);
+  if (rate > 0.0) {
+    const double ratio = sample_rate / rate;
+    sel.stride = static_cast<std::size_t>(std::lround(ratio));
+    if (ratio < 1.0 - 1e-9 || std::abs(ratio - static_cast<double>(sel.stride)) > 1e-9 * ratio) {
+      throw InputError("output.rate", FormatValue(rate) + " Hz",
+                       "must divide sim.sample_rate = " + FormatValue(sample_rate) + " Hz");
+    }
+  }
+  return sel;
+}
+
+/// The CSV view of a record: the selected channels (those it has) at every stride-th sample.
+study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& sel) {
+  if (sel.channels.empty() && sel.stride == 1) return ts;
+  study::TimeSeries out(ts.sample_rate() / static_cast<double>(sel.stride), ts.start_time());
+  for (const study::Channel& c : ts.channels()) {
+    if (!sel.channels.empty() && std::find(sel.channels.begin(), sel.channels.end(), c.name) == sel.channels.end()) {
+      continue;
+    }
+    std::vector<double> v;
+    v.reserve(c.values.size() / sel.stride + 1);
+    for (std::size_t i = 0; i < c.values.size(); i += sel.stride) v.push_back(c.values[i]);
+    out.AddChannel(c.name, c.unit, std::move(v));
+  }
+  return out;
+}
 
 void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json) {
   const multibody::Mechanism& m = mm.mechanism;
@@ -325,6 +383,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   Recorder rec;
   nlohmann::json gauges;
   DefineChannels(cfg, mm, &rec, &gauges);
+  // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
+  if (!ideal_joint) ReadCsvSelection(cfg, opt.sample_rate, &rec.names());
   multibody::RunData data(m);
   const double rate = opt.sample_rate;
   const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
@@ -491,12 +551,13 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
 
 void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run) {
   EnsureDirectory("--out", dir);
+  const CsvSelection csv = ReadCsvSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
   WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml());
-  study::WriteCsv(run.channels, dir + "/channels.csv");
+  study::WriteCsv(SelectForCsv(run.channels, csv), dir + "/channels.csv");
   if (!run.impacts.empty()) study::WriteImpactCsv(run.impacts, dir + "/impacts.csv");
   if (run.ideal) {
     EnsureDirectory("--out", dir + "/ideal");
-    study::WriteCsv(*run.ideal, dir + "/ideal/channels.csv");
+    study::WriteCsv(SelectForCsv(*run.ideal, csv), dir + "/ideal/channels.csv");
   }
   WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
 }

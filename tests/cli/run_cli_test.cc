@@ -134,6 +134,42 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// output.channels / output.rate: what a run's CSV files hold.
+TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
+  const fs::path out = TempDir("csv_select");
+  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
+                    "--set output.channels=\"slider_acceleration, penetration\" --set output.rate=\"10 kHz\" "
+                    "--out " + out.string()),
+            0);
+  std::ifstream in(out / "channels.csv");
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "time [s],slider_acceleration [m/s^2],penetration [m]");
+  int rows = 0;
+  std::string first, second;
+  while (std::getline(in, line)) {
+    if (rows == 0) first = line;
+    if (rows == 1) second = line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 500);  // 0.05 s at 10 kHz: every 10th of the 5000 samples at 100 kHz
+  const double dt = std::stod(second.substr(0, second.find(','))) - std::stod(first.substr(0, first.find(',')));
+  EXPECT_NEAR(dt, 1e-4, 1e-12);
+  // The ideal twin has no contact channels: its CSV keeps those of the selection it has.
+  std::ifstream ideal(out / "ideal" / "channels.csv");
+  std::getline(ideal, header);
+  EXPECT_EQ(header, "time [s],slider_acceleration [m/s^2]");
+  fs::remove_all(out);
+}
+
+TEST(RunCli, BadCsvSelectionExitsWithTwoBeforeTheRun) {
+  const fs::path out = TempDir("csv_bad");
+  EXPECT_EQ(Flexrod("run rigid-rig --set output.channels=penetrashun --out " + out.string()), 2);
+  EXPECT_EQ(Flexrod("run rigid-rig --set output.rate=\"30 kHz\" --out " + out.string()), 2);
+  EXPECT_EQ(Flexrod("run rigid-rig --set output.rate=\"-1 kHz\" --out " + out.string()), 2);
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // `flexrod run --vtk DIR`: the ParaView output of one run, and its bad-input path.
 TEST(RunCli, VtkWritesACollectionOfExistingFrames) {
   const fs::path root = TempDir("vtk_run");
