@@ -141,9 +141,12 @@ TEST_F(SweepCli, StoresAreIdenticalWithOneThreadTwoThreadsAndTwoMpiRanks) {
   ExpectSameStores(reference, two);
   ASSERT_TRUE(fs::exists("/usr/bin/mpirun")) << "Open MPI (Debian openmpi-bin) is needed";
   const std::string mpi = (Dir() / "mpi.h5").string();
+  // -x ASAN_OPTIONS: in a sanitizer build, Open MPI's own allocations in MPI_Init (libmpi,
+  // libopen-pal and its plugins) are reported as leaks at exit; the ranks' leak check is off,
+  // the rest of the sanitizer stays on (and the thread runs above keep the leak check).
   const Result rm =
-      Shell("mpirun --allow-run-as-root --oversubscribe -np 2 " + std::string(FLEXROD_BINARY) +
-            " sweep " + Small() + " --no-plot --out " + mpi);
+      Shell("mpirun --allow-run-as-root --oversubscribe -x ASAN_OPTIONS=detect_leaks=0 -np 2 " +
+            std::string(FLEXROD_BINARY) + " sweep " + Small() + " --no-plot --out " + mpi);
   ASSERT_EQ(rm.exit_code, 0) << rm.output;
   EXPECT_NE(rm.output.find("2 MPI ranks"), std::string::npos) << rm.output;
   ExpectSameStores(reference, mpi);
