@@ -477,6 +477,14 @@ Mat BodyMassMatrix(const Body& body, const Vec& pb) {
   return M;
 }
 
+double BodyKineticEnergy(const Body& body, const Vec& pb, const Vec& vb) {
+  FLEXROD_ASSERT(pb.size() == body.num_coordinates() && vb.size() == body.num_coordinates());
+  BodyScratch s;
+  ResizeBodyScratch(body, &s);
+  UpdateBody(body, pb.data(), vb.data(), &s);
+  return KineticEnergy(body, s, pb.data(), vb.data());
+}
+
 Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb) {
   const int nb = body.num_coordinates();
   FLEXROD_ASSERT(pb.size() == nb && vb.size() == nb);
@@ -492,12 +500,22 @@ void UpdateKinematics(const Mechanism& model, RunData* data, const double* y) {
   UpdateAll(model, data, y, y + model.num_coordinates());
 }
 
-void UpdateMassMatrices(const Mechanism& model, RunData* data, const double* y) {
-  const auto& bodies = model.bodies();
-  for (size_t bi = 0; bi < bodies.size(); ++bi) {
-    FillMassMatrix(bodies[bi], data->bodies[bi], y + bodies[bi].coordinate_offset,
-                   &data->bodies[bi].M);
+double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, const double* vb) {
+  // ½ vᵀ M v with the blocks of FillMassMatrix, without forming M (energies are sampled at the
+  // output rate).
+  const int n = b.num_modes;
+  const Vec2 Rd(vb[kX], vb[kY]);
+  const double thd = vb[kTheta];
+  const Vec2 AJs = s.A * Jm(s.s);
+  double mtt = b.J0;
+  double twice = b.mass * Rd.squaredNorm() + 2.0 * thd * AJs.dot(Rd);
+  if (n > 0) {
+    CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
+    mtt += b.I1.dot(q) + q.dot(s.w);
+    const Vec2 ASqd = s.A * (b.Sbar * qd);
+    twice += 2.0 * Rd.dot(ASqd) + 2.0 * thd * s.c.dot(qd) + qd.dot(b.Mff * qd);
   }
+  return 0.5 * (twice + mtt * thd * thd);
 }
 
 void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId joint,

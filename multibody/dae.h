@@ -38,6 +38,8 @@ namespace flexrod::multibody {
 // ---- body kernels (pure; one code path for rigid n = 0 and flexible bodies) ------------------
 /// Mass matrix M(θ, q) of one body, nb × nb; pb = [x, y, θ, q].
 Mat BodyMassMatrix(const Body& body, const Vec& pb);
+/// Kinetic energy of one body at (pb, vb) [J], without forming M (KineticEnergy).
+double BodyKineticEnergy(const Body& body, const Vec& pb, const Vec& vb);
 /// Quadratic-velocity vector Q_v(θ, q, θ̇, q̇) of one body (nb).
 Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb);
 
@@ -46,8 +48,9 @@ Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb);
 /// Jacobian pieces) at the coordinates/velocities of y. Every query in outputs.h reads them.
 void UpdateKinematics(const Mechanism& model, RunData* data, const double* y);
 
-/// Fills data->bodies[i].M with each body's mass matrix (after UpdateKinematics).
-void UpdateMassMatrices(const Mechanism& model, RunData* data, const double* y);
+/// Kinetic energy ½ vᵀM v of one body [J] (after UpdateKinematics; pb, vb: its coordinates
+/// and velocities).
+double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, const double* vb);
 /// Position constraint values of one joint at the kinematics in data (num_rows values).
 void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId joint,
                          const double* y, double* g);

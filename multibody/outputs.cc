@@ -112,17 +112,14 @@ ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId
 
 EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y) {
   EnergyReport e;
-  UpdateMassMatrices(model, data, y);
   const int np = model.num_coordinates();
   const Vec2& g = model.gravity();
   const auto& bodies = model.bodies();
   for (size_t bi = 0; bi < bodies.size(); ++bi) {
     const Body& b = bodies[bi];
     BodyScratch& s = data->bodies[bi];
-    const int o = b.coordinate_offset, nb = b.num_coordinates(), n = b.num_modes;
-    CMap vb(y + np + o, nb);
-    s.tmp.noalias() = s.M * vb;
-    e.kinetic += 0.5 * vb.dot(s.tmp);
+    const int o = b.coordinate_offset, n = b.num_modes;
+    e.kinetic += KineticEnergy(b, s, y + o, y + np + o);
     const Vec2 R(y[o + kX], y[o + kY]);
     e.gravity -= g.dot(b.mass * R + s.A * s.s);
     if (n > 0) {

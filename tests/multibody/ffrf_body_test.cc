@@ -108,6 +108,8 @@ TEST(FfrfBody, KineticEnergyAndQuadraticVelocityEqualThePointCloudSums) {
       Qv_cloud -= f.cloud.m[k] * L.transpose() * av;
     }
     EXPECT_NEAR(0.5 * v.dot(M * v), T_cloud, 1e-12 * T_cloud);
+    // The output path's kinetic energy, block by block without M (multibody/outputs.cc).
+    EXPECT_NEAR(BodyKineticEnergy(f.body(), p, v), T_cloud, 1e-12 * T_cloud);
     EXPECT_LE((Qv - Qv_cloud).norm(), 1e-12 * Qv_cloud.norm());
   }
 }
