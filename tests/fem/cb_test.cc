@@ -64,6 +64,28 @@ TEST(CraigBampton, FrequenciesAreUpperBoundsDecreasingMonotonicallyWithModes) {
   }
 }
 
+TEST(CraigBampton, StaysAccurateOnAFineMesh) {
+  // Clamped-free steel rod with a small-end interface, 4 fixed-interface modes: the reduced
+  // fundamental frequency is a Rayleigh–Ritz upper bound whose truncation error does not
+  // depend on the mesh (1.6e-5 at 1 000 elements). At 10 000 elements K_ii has cond ~1e16:
+  // the reduction measured 2.9e-3 (constraint modes in double, K_r by projection) before the
+  // extended-precision band solve and the block-structured K_r, 2.8e-4 after. The full model's
+  // frequency comes from the same assembly (ARPACK, shift-invert).
+  const RodSpec rod = SteelRod(10000);
+  ReductionSpec spec = MechanismReduction(rod, ReductionMethod::kCraigBampton, 4);
+  spec.fixed_dofs = {0, 1, 2};  // clamped big end
+  spec.interface_nodes = {rod.num_elements};
+  const ReducedRod r = Reduce(rod, spec);
+  const AssembledRod A = AssembleRod(rod);
+  const std::vector<int> free = FreeDofs(rod.num_dofs(), spec.fixed_dofs);
+  EigenRequest req;
+  req.num_modes = 1;
+  const double f_full = SolveEigenArpack(Restrict(A.K, free), Restrict(A.M, free), req).frequencies_hz()[0];
+  const double rel = r.frequencies_hz[0] / f_full - 1.0;
+  EXPECT_GT(rel, -1e-6) << rel;  // an upper bound, up to round-off
+  EXPECT_LT(rel, 5e-4) << rel;
+}
+
 TEST(CraigBampton, WithZeroModesIsGuyanReduction) {
   const RodSpec rod = SteelRod(8);
   const ReductionSpec spec = MechanismReduction(rod, ReductionMethod::kCraigBampton, 0);
