@@ -51,6 +51,8 @@ int RunModes(const ModesOptions& opt) {
           "more modes than free dofs (" + std::to_string(free_dofs) + ")");
 
   const fem::ReducedRod reduced = fem::Reduce(rod, spec);
+  const std::string precision = fem::MeshPrecisionWarning(rod, spec.method);
+  if (!precision.empty()) std::fprintf(stderr, "flexrod: warning: %s\n", precision.c_str());
   int count = cfg.Integer("modes.count");
   Require(count >= 0, "modes.count", count, "must be >= 0");
   if (count == 0) count = std::max(10, reduced.num_coordinates());

@@ -88,6 +88,9 @@ int Run(const RunOptions& opt) {
                 s["energy"]["max_balance_error [J]"].get<double>(),
                 s["energy"]["relative_balance_error"].get<double>());
   }
+  if (s.contains("warnings")) {
+    for (const auto& w : s["warnings"]) std::fprintf(stderr, "flexrod: warning: %s\n", w.get<std::string>().c_str());
+  }
   if (run.vtk && !run.vtk_collection.empty()) {
     std::printf("  paraview: %zu frames at %.6g Hz, rod deformation x%.6g -> %s\n", run.vtk->frames.size(),
                 run.vtk->frame_rate, run.vtk->options.scale, run.vtk_collection.c_str());

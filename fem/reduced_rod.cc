@@ -450,6 +450,16 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
   return out;
 }
 
+std::string MeshPrecisionWarning(const RodSpec& rod, ReductionMethod method) {
+  const int limit = method == ReductionMethod::kFull ? 30000 : 10000;
+  if (rod.num_elements <= limit) return "";
+  return "rod.elements = " + std::to_string(rod.num_elements) + ": beyond " + std::to_string(limit) +
+         " elements the " + (method == ReductionMethod::kFull ? "full model's" : "reduced model's") +
+         " frequencies lose accuracy to round-off (stiffness conditioning ~ elements^4; measured on "
+         "the clamped-free steel rod: Craig-Bampton 2.8e-4 at 10 000 and 1.8e-2 at 30 000 "
+         "elements, the full model wrong at 100 000); a few hundred elements converge the modes";
+}
+
 std::vector<ModeReportRow> CompareWithFullModel(const ReducedRod& reduced, int num_modes) {
   const RodSpec& rod = reduced.rod;
   const AssembledRod A = AssembleRod(rod);

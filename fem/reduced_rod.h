@@ -102,6 +102,13 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec);
 /// dofs (rigid-body modes included at ≈ 0 Hz and marked).
 std::vector<ModeReportRow> CompareWithFullModel(const ReducedRod& reduced, int num_modes);
 
+/// A warning (empty if none) when the mesh is fine enough for double-precision round-off to
+/// show in the reduced model: a beam's stiffness has cond ~ (number of elements)⁴. Measured
+/// on the clamped-free steel rod (fundamental frequency against the full model): Craig–Bampton
+/// 2.8e-4 at 10 000 elements and 1.8e-2 at 30 000; the full model itself is right at 30 000
+/// and wrong at 100 000 elements.
+std::string MeshPrecisionWarning(const RodSpec& rod, ReductionMethod method);
+
 /// HDF5 round trip; the file carries every input that produced the rod.
 void WriteReducedRod(const ReducedRod& rod, const std::string& path);
 ReducedRod ReadReducedRod(const std::string& path);

@@ -305,6 +305,8 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
                 {"safety_factor", peak_stress > 0.0 ? nlohmann::json(yield / peak_stress) : nlohmann::json(nullptr)},
                 {"frequencies [Hz]", std::vector<double>(mm.rod->frequencies_hz.data(),
                                                          mm.rod->frequencies_hz.data() + mm.rod->frequencies_hz.size())}};
+    const std::string precision = fem::MeshPrecisionWarning(mm.rod->rod, mm.rod->reduction.method);
+    if (!precision.empty()) s["warnings"].push_back(precision);
   }
   const auto& eb = ts.values("energy_balance_error");
   const auto& ek = ts.values("energy_kinetic");

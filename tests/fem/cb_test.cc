@@ -86,6 +86,17 @@ TEST(CraigBampton, StaysAccurateOnAFineMesh) {
   EXPECT_LT(rel, 5e-4) << rel;
 }
 
+TEST(MeshPrecision, WarnsWhereRoundOffShowsInTheFrequencies) {
+  // Thresholds from the measurements in fem/reduced_rod.h: reductions beyond 10 000 elements,
+  // the full model beyond 30 000.
+  EXPECT_EQ(MeshPrecisionWarning(SteelRod(10000), ReductionMethod::kCraigBampton), "");
+  EXPECT_EQ(MeshPrecisionWarning(SteelRod(30000), ReductionMethod::kFull), "");
+  const std::string w = MeshPrecisionWarning(SteelRod(10001), ReductionMethod::kCraigBampton);
+  EXPECT_NE(w.find("rod.elements = 10001"), std::string::npos) << w;
+  EXPECT_NE(MeshPrecisionWarning(SteelRod(30001), ReductionMethod::kFull), "");
+  EXPECT_NE(MeshPrecisionWarning(SteelRod(20000), ReductionMethod::kOrthonormalCraigBampton), "");
+}
+
 TEST(CraigBampton, WithZeroModesIsGuyanReduction) {
   const RodSpec rod = SteelRod(8);
   const ReductionSpec spec = MechanismReduction(rod, ReductionMethod::kCraigBampton, 0);
