@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <memory>
+#include <utility>
 #include <numbers>
 #include <iomanip>
 #include <random>
@@ -75,19 +76,16 @@ struct SliderCrankModel {
   DriverId driver;
 };
 
-inline SliderCrankModel BuildRigidSliderCrank(const SliderCrankParams& P) {
-  MechanismBuilder b;
-  const BodyId crank = b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0,
-                                       Vec2(0.5 * P.r, 0.0)});
-  const BodyId rod =
-      b.AddRigidBody({"rod", P.m_rod, P.m_rod * P.l * P.l / 12.0, Vec2(0.5 * P.l, 0.0)});
-  const BodyId slider = b.AddRigidBody({"slider", P.m_slider, 1e-4, Vec2(0.0, 0.0)});
+/// Markers, joints, guide and driver of the slider-crank around its three bodies;
+/// `rod_markers(b)` adds the rod's big-end and small-end markers.
+template <typename RodMarkers>
+SliderCrankModel ConnectSliderCrank(MechanismBuilder& b, const SliderCrankParams& P, BodyId crank,
+                                    BodyId rod, BodyId slider, RodMarkers rod_markers) {
   const MarkerId o = b.AddGroundMarker("O", Vec2(0.0, 0.0));
   const MarkerId guide_m = b.AddGroundMarker("guide", Vec2(0.0, P.e));
   const MarkerId crank_o = b.AddBodyMarker(crank, "crank.O", Vec2(0.0, 0.0));
   const MarkerId crank_a = b.AddBodyMarker(crank, "crank.A", Vec2(P.r, 0.0));
-  const MarkerId rod_a = b.AddBodyMarker(rod, "rod.A", Vec2(0.0, 0.0));
-  const MarkerId rod_b = b.AddBodyMarker(rod, "rod.B", Vec2(P.l, 0.0));
+  const auto [rod_a, rod_b] = rod_markers(b);
   const MarkerId slider_b = b.AddBodyMarker(slider, "slider.B", Vec2(0.0, 0.0));
   SliderCrankModel m{Mechanism(), crank, rod, slider, crank_a, slider_b, {}, {}, {}, {}, {}};
   m.pivot = b.AddRevolute("pivot", o, crank_o);
@@ -103,6 +101,19 @@ inline SliderCrankModel BuildRigidSliderCrank(const SliderCrankParams& P) {
   m.driver = b.AddConstantSpeedDriver("motor", crank, P.theta0, P.omega);
   m.model = b.Build();
   return m;
+}
+
+inline SliderCrankModel BuildRigidSliderCrank(const SliderCrankParams& P) {
+  MechanismBuilder b;
+  const BodyId crank = b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0,
+                                       Vec2(0.5 * P.r, 0.0)});
+  const BodyId rod =
+      b.AddRigidBody({"rod", P.m_rod, P.m_rod * P.l * P.l / 12.0, Vec2(0.5 * P.l, 0.0)});
+  const BodyId slider = b.AddRigidBody({"slider", P.m_slider, 1e-4, Vec2(0.0, 0.0)});
+  return ConnectSliderCrank(b, P, crank, rod, slider, [&](MechanismBuilder& mb) {
+    return std::pair{mb.AddBodyMarker(rod, "rod.A", Vec2(0.0, 0.0)),
+                     mb.AddBodyMarker(rod, "rod.B", Vec2(P.l, 0.0))};
+  });
 }
 
 /// Initial guess near the assembled configuration (perturbed so Newton has work to do).
@@ -154,27 +165,9 @@ inline SliderCrankModel BuildFlexibleSliderCrank(const SliderCrankParams& P,
   fs.geometric_stiffening = stiffening;
   const BodyId rb = b.AddFlexibleBody(fs);
   const BodyId slider = b.AddRigidBody({"slider", P.m_slider, 1e-4, Vec2(0.0, 0.0)});
-  const MarkerId o = b.AddGroundMarker("O", Vec2(0.0, 0.0));
-  const MarkerId guide_m = b.AddGroundMarker("guide", Vec2(0.0, P.e));
-  const MarkerId crank_o = b.AddBodyMarker(crank, "crank.O", Vec2(0.0, 0.0));
-  const MarkerId crank_a = b.AddBodyMarker(crank, "crank.A", Vec2(P.r, 0.0));
-  const MarkerId rod_a = b.AddNodeMarker(rb, "rod.A", 0);
-  const MarkerId rod_b = b.AddNodeMarker(rb, "rod.B", rod->rod.num_nodes() - 1);
-  const MarkerId slider_b = b.AddBodyMarker(slider, "slider.B", Vec2(0.0, 0.0));
-  SliderCrankModel m{Mechanism(), crank, rb, slider, crank_a, slider_b, {}, {}, {}, {}, {}};
-  m.pivot = b.AddRevolute("pivot", o, crank_o);
-  m.big_end = b.AddRevolute("big_end", crank_a, rod_a);
-  m.small_end = b.AddRevolute("small_end", rod_b, slider_b);
-  PrismaticSpec ps;
-  ps.name = "guide";
-  ps.marker_i = guide_m;
-  ps.marker_j = slider_b;
-  ps.damping = P.guide_damping;
-  ps.friction_force = P.guide_friction;
-  m.guide = b.AddPrismatic(ps);
-  m.driver = b.AddConstantSpeedDriver("motor", crank, P.theta0, P.omega);
-  m.model = b.Build();
-  return m;
+  return ConnectSliderCrank(b, P, crank, rb, slider, [&](MechanismBuilder& mb) {
+    return std::pair{mb.AddNodeMarker(rb, "rod.A", 0), mb.AddNodeMarker(rb, "rod.B", rod->rod.num_nodes() - 1)};
+  });
 }
 
 /// Synthetic reduced rod: N point masses m_k at ū₀,k with random shape rows S_k (2×n); the
