@@ -96,6 +96,18 @@ void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
 
 }  // namespace
 
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto b = item.find_first_not_of(" \t");
+    if (b == std::string::npos) continue;
+    out.push_back(item.substr(b, item.find_last_not_of(" \t") - b + 1));
+  }
+  return out;
+}
+
 void Config::Set(const std::string& key, const std::string& text) {
   const ParamDef& p = Lookup(key);
   CheckValue(p, text);

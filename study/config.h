@@ -35,6 +35,10 @@ struct ParamDef {
 const std::vector<ParamDef>& Schema();
 const ParamDef* FindParam(const std::string& key);
 
+/// Items of a comma-separated list (list-valued text keys, store attributes), each trimmed of
+/// blanks; empty items are dropped.
+std::vector<std::string> SplitList(const std::string& text);
+
 class Config {
  public:
   /// Sets a key from text. Throws InputError for unknown keys or values that do not parse.

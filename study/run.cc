@@ -23,11 +23,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::vector<double> ParseList(const std::string& key, const std::string& text, Dimension dim) {
   std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(ParseQuantity(key, item, dim));
-  }
+  for (const std::string& item : SplitList(text)) out.push_back(ParseQuantity(key, item, dim));
   return out;
 }
 
@@ -85,12 +81,7 @@ CsvSelection ReadCsvSelection(const Config& cfg, double sample_rate,
   CsvSelection sel;
   const std::string list = cfg.Text("output.channels");
   if (list != "all") {
-    std::stringstream ss(list);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-      item.erase(0, item.find_first_not_of(" \t"));
-      item.erase(item.find_last_not_of(" \t") + 1);
-      if (item.empty()) continue;
+    for (const std::string& item : SplitList(list)) {
       if (available && std::find(available->begin(), available->end(), item) == available->end()) {
         std::string names;
         for (const std::string& n : *available) names += (names.empty() ? "" : ", ") + n;

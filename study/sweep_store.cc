@@ -45,15 +45,6 @@ std::string Join(const std::vector<std::string>& v) {
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
   return s;
 }
-std::vector<std::string> Split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
 
 /// Datasets of one group in a given order, with an index attribute "names" (and "units") so
 /// the order and units read back without HDF5 attribute iteration.
@@ -68,8 +59,8 @@ void WriteSeries(const h5::Node& group, const std::vector<StoredSeries>& series,
   group.SetAttr("units", Join(units));
 }
 std::vector<StoredSeries> ReadSeries(const h5::Node& group) {
-  const std::vector<std::string> names = Split(group.GetString("names"));
-  const std::vector<std::string> units = Split(group.GetString("units"));
+  const std::vector<std::string> names = SplitList(group.GetString("names"));
+  const std::vector<std::string> units = SplitList(group.GetString("units"));
   if (units.size() != names.size())
     throw NumericalError("store: names and units of a group differ in count");
   std::vector<StoredSeries> out;
@@ -106,7 +97,7 @@ void WriteScalars(const h5::Node& group, const std::vector<StoredScalar>& scalar
 }
 std::vector<StoredScalar> ReadScalars(const h5::Node& group) {
   std::vector<StoredScalar> out;
-  for (const std::string& n : Split(group.GetString("names"))) {
+  for (const std::string& n : SplitList(group.GetString("names"))) {
     out.push_back({n, group.GetDouble(n), group.GetString(n + ".unit")});
   }
   return out;
@@ -434,7 +425,7 @@ StoredRun ReadStoredRun(const h5::Node& g, bool with_channels) {
   {
     const h5::Node pc = g.OpenGroup("poincare");
     run.poincare = ReadSeries(pc);
-    for (const std::string& n : Split(pc.GetString("jitter_names"))) {
+    for (const std::string& n : SplitList(pc.GetString("jitter_names"))) {
       run.poincare_jitter.push_back({n, pc.GetDouble(n), pc.GetString(n + ".unit")});
     }
   }
@@ -548,7 +539,7 @@ SweepStore ReadStore(const std::string& path, bool with_channels) {
   store.header.origin = file.GetString("origin");
   store.header.base = file.GetString("base");
   store.header.matrix_source = GetText(file, "matrix");
-  store.header.axis_keys = Split(GetText(file, "axes"));
+  store.header.axis_keys = SplitList(GetText(file, "axes"));
   store.header.num_runs = static_cast<int>(file.GetDouble("num_runs"));
   store.num_failed = static_cast<int>(file.GetDouble("num_failed"));
   const h5::Node runs = file.OpenGroup("runs");
