@@ -218,19 +218,19 @@ NormalForce Eval(const StandardLinearSolidLaw& l, double d, double, double, cons
                -l.arm_stiffness});
 }
 NormalForce Eval(const HertzLaw& l, double d, double, double, const LawState&) {
-  const double p = std::pow(d, l.exponent - 1.0);
+  const double p = PenetrationPower(d, l.exponent - 1.0);
   return {l.stiffness * p * d, l.exponent * l.stiffness * p, 0.0, 0.0};
 }
 NormalForce EvalHysteresis(const HysteresisParameters& h, double d, double r, double v0) {
   const double v = std::max(v0, h.min_approach_velocity);
-  const double p = std::pow(d, h.exponent - 1.0);
+  const double p = PenetrationPower(d, h.exponent - 1.0);
   const double elastic = h.stiffness * p * d;
   const double factor = 1.0 + h.damping_factor * r / v;
   return Clip({elastic * factor, h.exponent * h.stiffness * p * factor,
                elastic * h.damping_factor / v, 0.0});
 }
 NormalForce Eval(const ImpactFunctionLaw& l, double d, double r, double, const LawState&) {
-  const double p = std::pow(d, l.exponent - 1.0);
+  const double p = PenetrationPower(d, l.exponent - 1.0);
   const double x = std::min(d / l.damping_penetration, 1.0);
   const double c = l.max_damping * x * x * (3.0 - 2.0 * x);
   const double dc =
@@ -254,14 +254,14 @@ NormalForce Eval(const DubowskyFreudensteinLaw& l, double d, double, double, con
 NormalForce Eval(const ElastoPlasticLaw& l, double d, double, double, const LawState& s) {
   const double max_penetration = s[0], max_force = s[1];
   if (d >= max_penetration) {  // virgin loading curve
-    const double p = std::pow(d, l.exponent - 1.0);
+    const double p = PenetrationPower(d, l.exponent - 1.0);
     return {l.stiffness * p * d, l.exponent * l.stiffness * p, 0.0, 0.0};
   }
   const double set = max_penetration * (1.0 - l.restitution * l.restitution);  // δ_p
   if (d <= set) return {};
   const double span = max_penetration - set;
   const double ratio = (d - set) / span;
-  const double p = std::pow(ratio, l.exponent - 1.0);
+  const double p = PenetrationPower(ratio, l.exponent - 1.0);
   return {max_force * p * ratio, max_force * l.exponent * p / span, 0.0, 0.0};
 }
 template <typename Law>

@@ -28,7 +28,7 @@ struct ElasticEnergy {
 /// E = Kδⁿ⁺¹/(n+1), ∂E/∂δ = Kδⁿ (scaled by `factor`).
 ElasticEnergy PowerLawEnergy(double stiffness, double exponent, double penetration,
                              double factor = 1.0) {
-  const double p = factor * stiffness * std::pow(penetration, exponent);
+  const double p = factor * stiffness * contact::PenetrationPower(penetration, exponent);
   return {p * penetration / (exponent + 1.0), p, 0.0};
 }
 
@@ -89,7 +89,7 @@ ElasticEnergy CalcElasticEnergy(const contact::NormalLaw& law, bool in_contact,
             if (d <= set) return {};
             const double span = max_penetration - set;
             const double ratio = (d - set) / span;
-            const double p = max_force * std::pow(ratio, l.exponent);
+            const double p = max_force * contact::PenetrationPower(ratio, l.exponent);
             return {p * (d - set) / (l.exponent + 1.0), p, 0.0};
           } else {  // hysteresis family: elastic part K δⁿ
             return PowerLawEnergy(l.hysteresis.stiffness, l.hysteresis.exponent, d);

@@ -127,6 +127,7 @@ class ClearanceJoint final : public ForceElement {
   /// length = 1e-3·clearance; speed = min(1e-3 m/s, the friction law's regularisation velocity);
   /// angular speed = speed / R_bush.
   FiniteDifferenceScales fd_scales() const override;
+  bool relative_kinematics() const override { return true; }
   /// Normal-law state x_d: 1e-2·clearance [m]; LuGre z: μ_s/σ̂₀ [m].
   double StateScale(int k) const override;
   std::string type_name() const override { return "clearance-joint"; }

@@ -6,6 +6,7 @@
 #include "multibody/dae.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -21,6 +22,23 @@ using JacMap = Eigen::Map<Mat, 0, Eigen::OuterStride<>>;
 
 // cbrt(machine epsilon): optimal relative step of a central difference.
 const double kFdStep = std::cbrt(std::numeric_limits<double>::epsilon());
+
+/// Adds the wall time of its scope to *seconds when `on` (RunData::time_elements).
+class ElementTimer {
+ public:
+  ElementTimer(bool on, double* seconds) : seconds_(on ? seconds : nullptr) {
+    if (seconds_) start_ = std::chrono::steady_clock::now();
+  }
+  ~ElementTimer() {
+    if (seconds_) *seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  ElementTimer(const ElementTimer&) = delete;
+  ElementTimer& operator=(const ElementTimer&) = delete;
+
+ private:
+  double* seconds_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }   // J a
 inline Vec2 JTm(const Vec2& a) { return Vec2(a.y(), -a.x()); }  // Jᵀ a
@@ -617,6 +635,7 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
     }
     const MarkerKinematics& ki = data->markers[e.marker_i].kin;
     const MarkerKinematics& kj = data->markers[e.marker_j].kin;
+    const ElementTimer timer(data->time_elements, &es.seconds);
     if (!e.element->Evaluate(t, ki, kj, z + e.state_offset, memory + e.memory_offset, &es.out)) {
       return 1;
     }
@@ -811,6 +830,7 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
   for (size_t ei = 0; ei < elements.size(); ++ei) {
     const ElementSlot& e = elements[ei];
     ElementScratch& es = data->elements[ei];
+    const ElementTimer timer(data->time_elements, &es.seconds);
     const int ns = e.num_states;
     const int marker[2] = {e.marker_i, e.marker_j};
     const int body[2] = {BodyOf(model, e.marker_i), BodyOf(model, e.marker_j)};
@@ -823,9 +843,19 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
     const Vec2 F0[2] = {Vec2(es.o_plus(0), es.o_plus(1)), Vec2(es.o_plus(3), es.o_plus(4))};
     const FiniteDifferenceScales sc = e.element->fd_scales();
     es.Do.setZero();
-    for (int side = 0; side < 2; ++side) {
+    // Relative-kinematics elements: positions and velocities are differenced on one side
+    // (j if it is on a body), the other side's columns are their negatives, angles are skipped.
+    const bool relative = e.element->relative_kinematics();
+    const int fd_side = body[1] >= 0 ? 1 : 0;
+    for (int pass = 0; pass < 2; ++pass) {
+      const int side = pass == 0 ? fd_side : 1 - fd_side;
       if (body[side] < 0) continue;
       for (int c = 0; c < 6; ++c) {
+        if (relative && c == 4) continue;  // ∂/∂φ = 0
+        if (relative && c < 4 && side != fd_side) {
+          es.Do.col(6 * side + c) = -es.Do.col(6 * fd_side + c);
+          continue;
+        }
         MarkerKinematics kp[2] = {k0[0], k0[1]}, km[2] = {k0[0], k0[1]};
         const double x0 = Component(kp[side], c);
         const volatile double xh = x0 + kFdStep * ComponentScale(sc, c);

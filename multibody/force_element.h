@@ -89,6 +89,11 @@ class ForceElement {
   }
 
   virtual FiniteDifferenceScales fd_scales() const { return {}; }
+  /// True if the outputs depend on the markers' positions and velocities only through
+  /// r_j − r_i and ṙ_j − ṙ_i, and not on the marker angles (a pin in a bush, a spring between
+  /// two points). The Jacobian then differences one side only: ∂/∂(r_i, ṙ_i) = −∂/∂(r_j, ṙ_j)
+  /// and ∂/∂φ = 0, which halves the element evaluations per Jacobian.
+  virtual bool relative_kinematics() const { return false; }
   /// Typical magnitude of state k: its finite-difference scale and its absolute-tolerance
   /// multiplier (abs_tol_z = abs_tol · StateScale(k)).
   virtual double StateScale(int /*k*/) const { return 1.0; }
@@ -107,6 +112,7 @@ class SpringDamper final : public ForceElement {
   double PotentialEnergy(const MarkerKinematics& i, const MarkerKinematics& j, const double* z,
                          const double* memory) const override;
   FiniteDifferenceScales fd_scales() const override;
+  bool relative_kinematics() const override { return true; }
   std::string type_name() const override { return "spring-damper"; }
 
  private:

@@ -617,11 +617,12 @@ void IdaIntegrator::CacheStepPolynomial() {
   poly_t0_ = tn - hu;
 }
 
-void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp) const {
+void IdaIntegrator::EvaluateStepPolynomial(double t, double* __restrict y,
+                                           double* __restrict yp) const {
   FLEXROD_ASSERT(poly_order_ >= 0);
   const int n = impl_->n, k = poly_order_;
   const double s = t - poly_tn_;
-  const double* c = poly_.data();
+  const double* __restrict c = poly_.data();
   // Horner over the coefficient rows (inner loops over components vectorise):
   // y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}.
   const double* top = c + static_cast<size_t>(k) * n;
@@ -630,7 +631,7 @@ void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp) cons
     yp[i] = 0.0;
   }
   for (int j = k - 1; j >= 0; --j) {
-    const double* row = c + static_cast<size_t>(j) * n;
+    const double* __restrict row = c + static_cast<size_t>(j) * n;
     for (int i = 0; i < n; ++i) {
       yp[i] = yp[i] * s + y[i];
       y[i] = y[i] * s + row[i];

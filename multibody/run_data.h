@@ -62,6 +62,8 @@ struct ElementScratch {
   Mat Kp_i, Kv_i, Kp_j, Kv_j; ///< ∂κ_m/∂p_b, ∂κ_m/∂v_b (6 × nb)
   Mat Gen_i, Gen_j;           ///< [Jr; Jφ] (3 × nb)
   Mat T;                      ///< scratch (7 + ns) × nb_max
+  /// Wall time spent in this element in residuals and Jacobians (RunData::time_elements) [s].
+  double seconds{0.0};
 };
 
 /// Sizes a body's scratch for body b (used by RunData and the stand-alone kernels).
@@ -85,6 +87,9 @@ class RunData {
   /// Count of residual evaluations through CalcResidual (for statistics).
   long residual_evaluations{0};
   long jacobian_evaluations{0};
+  /// Time each element's evaluations in CalcResidual and AddJacobian into
+  /// ElementScratch::seconds (off by default: two clock reads per element per call).
+  bool time_elements{false};
 };
 
 }  // namespace flexrod::multibody

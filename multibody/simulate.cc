@@ -519,6 +519,8 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   SimulationStatus status;
   status.velocity_tol_scale = options.velocity_tol_scale > 0.0 ? options.velocity_tol_scale
                                                                : AutoVelocityTolScale(model);
+  data->time_elements = options.time_elements;
+  for (ElementScratch& es : data->elements) es.seconds = 0.0;
   MechanismDae dae(model, data, options.index_event, status.velocity_tol_scale,
                    options.energy_tol_scale);
   IdaIntegrator ida(&dae, options.integrator);
@@ -690,6 +692,9 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   }
   status.stats = ida.stats();
   status.output_seconds = output_seconds;
+  if (options.time_elements) {
+    for (const ElementScratch& es : data->elements) status.element_seconds.push_back(es.seconds);
+  }
   status.wall_seconds = Seconds(wall0, Clock::now());
   return status;
 }

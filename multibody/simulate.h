@@ -128,6 +128,9 @@ struct SimulationOptions {
   /// 0 (default) = AutoVelocityTolScale(model). See kElasticJointVelocityTolScale.
   double velocity_tol_scale{0.0};
   double energy_tol_scale{1.0};    ///< abs tolerance of the energy quadratures = abs_tol · this, > 0
+  /// Time each force element's evaluations in residuals and its Jacobian block
+  /// (SimulationStatus::element_seconds); off by default (two clock reads per element per call).
+  bool time_elements{false};
   void Validate(const Mechanism& model) const;
 };
 
@@ -202,6 +205,9 @@ struct SimulationStatus {
   double velocity_tol_scale{1.0}; ///< the velocity tolerance scale used [1/s]
   double wall_seconds{0.0};       ///< whole run [s]
   double output_seconds{0.0};     ///< dense output + observer callbacks [s]
+  /// SimulationOptions::time_elements: per force element (model order), the wall time of its
+  /// evaluations in residuals and of its Jacobian block [s]; empty otherwise.
+  std::vector<double> element_seconds;
   bool ok() const { return outcome == SimulationOutcome::kCompleted; }
   std::string Summary() const;
 };

@@ -120,6 +120,26 @@ study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& 
   return out;
 }
 
+/// A quantity several channels share, computed once per sample (keyed on the sample time).
+template <typename F>
+auto OncePerSample(F compute) {
+  using T = std::decay_t<std::invoke_result_t<F, const SampleView&>>;
+  struct Cache {
+    bool valid{false};
+    double t{0.0};
+    T value{};
+  };
+  const auto cache = std::make_shared<Cache>();
+  return [compute, cache](const SampleView& s) -> const T& {
+    if (!cache->valid || cache->t != s.t()) {
+      cache->value = compute(s);
+      cache->t = s.t();
+      cache->valid = true;
+    }
+    return cache->value;
+  };
+}
+
 void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json) {
   const multibody::Mechanism& m = mm.mechanism;
   const auto conrod = mm.conrod;
@@ -134,34 +154,20 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     rec->Add("slider_position", "m", [=](const SampleView& s, const SampleCache&) { return s.coordinate(sx); });
     rec->Add("slider_velocity", "m/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(sx); });
     rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s, const SampleCache&) { return s.acceleration(sx); });
-    const auto big = mm.big_end_joint;
     // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
-    rec->Add("big_end_force_x", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(big).force_j.x(); });
-    rec->Add("big_end_force_y", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(big).force_j.y(); });
+    const auto big = OncePerSample([joint = mm.big_end_joint](const SampleView& s) { return s.Reaction(joint); });
+    rec->Add("big_end_force_x", "N", [=](const SampleView& s, const SampleCache&) { return big(s).force_j.x(); });
+    rec->Add("big_end_force_y", "N", [=](const SampleView& s, const SampleCache&) { return big(s).force_j.y(); });
     if (mm.small_end_joint.index >= 0) {  // ideal small-end joint
-      const auto small = mm.small_end_joint;
       // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
-      rec->Add("bearing_force_x", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(small).force_i.x(); });
-      rec->Add("bearing_force_y", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(small).force_i.y(); });
-      rec->Add("bearing_force", "N", [=](const SampleView& s, const SampleCache&) { return s.Reaction(small).force_i.norm(); });
+      const auto small = OncePerSample([joint = mm.small_end_joint](const SampleView& s) { return s.Reaction(joint); });
+      rec->Add("bearing_force_x", "N", [=](const SampleView& s, const SampleCache&) { return small(s).force_i.x(); });
+      rec->Add("bearing_force_y", "N", [=](const SampleView& s, const SampleCache&) { return small(s).force_i.y(); });
+      rec->Add("bearing_force", "N", [=](const SampleView& s, const SampleCache&) { return small(s).force_i.norm(); });
     }
     if (mm.clearance.index >= 0) {  // clearance small-end joint (multibody/clearance_joint.h)
-      // One joint evaluation per sample, shared by the channels below (keyed on the time).
-      struct JointCache {
-        bool valid{false};
-        double t{0.0};
-        multibody::ClearanceResponse response;
-      };
-      const auto joint = mm.clearance;
-      const auto cache = std::make_shared<JointCache>();
-      auto at = [joint, cache](const SampleView& s) -> const multibody::ClearanceResponse& {
-        if (!cache->valid || cache->t != s.t()) {
-          cache->response = multibody::CalcClearanceResponse(s, joint);
-          cache->t = s.t();
-          cache->valid = true;
-        }
-        return cache->response;
-      };
+      const auto at = OncePerSample(
+          [joint = mm.clearance](const SampleView& s) { return multibody::CalcClearanceResponse(s, joint); });
       // Pin centre relative to the bush centre (world axes); penetration < 0 is the open gap.
       rec->Add("journal_eccentricity_x", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity.x(); });
       rec->Add("journal_eccentricity_y", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity.y(); });
@@ -320,7 +326,8 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
 namespace {
 
 RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
-                 MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr) {
+                 MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr,
+                 bool time_elements = false) {
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
@@ -371,6 +378,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   opt.sample_start = opt.start_sampling_at_index ? settle : t_capture_start;
   opt.t_end = t_capture_start + capture;
   if (!mm.is_pendulum && cfg.Text("drive.type") != "constant") opt.t_end += 1.0;  // wait for the index
+  opt.time_elements = time_elements;
   opt.Validate(m);
 
   Recorder rec;
@@ -456,6 +464,10 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     }
   }
   out.summary["integrator"] = StatusJson(out.status);
+  for (size_t e = 0; e < out.status.element_seconds.size(); ++e) {  // RunOutputOptions::time_elements
+    nlohmann::json& t = out.summary["integrator"]["element_time [s]"][m.elements()[e].element->type_name()];
+    t = (t.is_null() ? 0.0 : t.get<double>()) + out.status.element_seconds[e];
+  }
   out.summary["samples"] = out.channels.num_samples();
   out.summary["capture_start [s]"] = out.channels.num_samples() ? out.channels.start_time() : 0.0;
   out.summary["wall_time [s]"] =
@@ -509,7 +521,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
   }
   MechanismModel mm;
-  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr);
+  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr, outputs.time_elements);
   if (out.vtk && !outputs.vtk_dir.empty()) out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
   if (!clearance || out.channels.num_samples() < 3) return out;

@@ -43,6 +43,9 @@ struct RunOutputOptions {
   /// it). The vtk.* keys and the directory (it must exist or be creatable) are checked before
   /// any work starts; the directory is created only when the frames are written.
   std::string vtk_dir;
+  /// Time each force element (multibody::SimulationOptions::time_elements) and report the
+  /// seconds per element type in summary["integrator"]["element_time [s]"].
+  bool time_elements{false};
 };
 
 /// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces an ideal
