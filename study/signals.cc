@@ -21,24 +21,29 @@ double RevolutionNumber(double angle, double index_angle) {
 }
 
 // Calls f(IndexCrossing) for every crossing whose sample lies in [first, last), in time order,
-// until f returns false.
+// until f returns false. Sample 0 has no predecessor: the record is extended linearly,
+// θ[−1] = 2θ[0] − θ[1], so a record that starts on the index (a triggered capture: θ[0] = L up
+// to round-off) has its crossing at sample 0 whichever side of L the round-off puts θ[0].
 template <typename F>
 void ScanCrossings(std::span<const double> crank_angle, double index_angle, double sample_rate,
                    double start_time, std::size_t first, std::size_t last, F f) {
-  first = std::max<std::size_t>(first, 1);
   last = std::min(last, crank_angle.size());
+  if (crank_angle.size() < 2) first = std::max<std::size_t>(first, 1);
   if (first >= last) return;
-  double prev_rev = RevolutionNumber(crank_angle[first - 1], index_angle);
+  auto angle_before = [&](std::size_t i) {  // θ[i − 1]
+    return i > 0 ? crank_angle[i - 1] : 2.0 * crank_angle[0] - crank_angle[1];
+  };
+  double prev_rev = RevolutionNumber(angle_before(first), index_angle);
   for (std::size_t i = first; i < last; ++i) {
     const double rev = RevolutionNumber(crank_angle[i], index_angle);
     for (double k = prev_rev + 1.0; k <= rev; k += 1.0) {
       const double level = index_angle + kTwoPi * k;
-      const double a = crank_angle[i - 1];
+      const double a = angle_before(i);
       const double b = crank_angle[i];
       // a < level ≤ b in exact arithmetic; clamp round-off of the quotient into (0, 1].
       double s = (level - a) / (b - a);
       s = std::clamp(s, std::numeric_limits<double>::min(), 1.0);
-      const IndexCrossing c{i, s, start_time + (static_cast<double>(i - 1) + s) / sample_rate};
+      const IndexCrossing c{i, s, start_time + (static_cast<double>(i) - 1.0 + s) / sample_rate};
       if (!f(c)) return;
     }
     prev_rev = rev;
@@ -95,16 +100,6 @@ std::vector<SampleRange> SplitRevolutions(std::span<const double> crank_angle, d
   std::vector<SampleRange> revolutions;
   std::size_t previous = 0;
   bool have_previous = false;
-  // A crossing belongs to sample i when θ[i−1] < L ≤ θ[i]. Sample 0 has no predecessor: take
-  // θ[−1] = 2θ[0] − θ[1]. A capture triggered at the index angle starts on the crossing, with
-  // θ[0] at L up to round-off; without this, which side of L the round-off falls on decided
-  // whether the first revolution was counted.
-  if (range.begin == 0 && crank_angle.size() >= 2) {
-    const double before = 2.0 * crank_angle[0] - crank_angle[1];
-    if (RevolutionNumber(before, index_angle) < RevolutionNumber(crank_angle[0], index_angle)) {
-      have_previous = true;
-    }
-  }
   // Crossing samples in [begin, end]: a crossing at sample `end` closes the last revolution.
   // Rates and times do not matter here.
   ScanCrossings(crank_angle, index_angle, 1.0, 0.0, range.begin, range.end + 1,
@@ -144,8 +139,9 @@ SampleRange FindCaptureWindow(std::span<const double> crank_angle, double sample
   ScanCrossings(crank_angle, options.index_angle, sample_rate, start_time, first,
                 crank_angle.size(), [&](const IndexCrossing& c) {
                   const double since_start =
-                      (static_cast<double>(c.sample - 1) + c.fraction) / sample_rate;
-                  if (since_start < options.settling_time) return true;
+                      (static_cast<double>(c.sample) - 1.0 + c.fraction) / sample_rate;
+                  // (a crossing on the settling instant up to round-off of θ counts)
+                  if (since_start < options.settling_time - 1e-9 / sample_rate) return true;
                   trigger = c;
                   found = true;
                   return false;
@@ -178,8 +174,9 @@ void InterpolateAtCrossings(std::span<const double> x, std::span<const IndexCros
   FLEXROD_ASSERT(out.size() == crossings.size());
   for (std::size_t j = 0; j < crossings.size(); ++j) {
     const IndexCrossing& c = crossings[j];
-    FLEXROD_ASSERT(c.sample >= 1 && c.sample < x.size());
-    out[j] = (1.0 - c.fraction) * x[c.sample - 1] + c.fraction * x[c.sample];
+    FLEXROD_ASSERT(c.sample < x.size() && x.size() >= 2);
+    const double before = c.sample > 0 ? x[c.sample - 1] : 2.0 * x[0] - x[1];  // as ScanCrossings
+    out[j] = (1.0 - c.fraction) * before + c.fraction * x[c.sample];
   }
 }
 

@@ -34,9 +34,11 @@ double WrapToTwoPi(double angle);
 /// The index levels are L_k = index_angle + 2πk for every integer k. The crank passes a level L
 /// between samples i−1 and i when θ[i−1] < L ≤ θ[i] (upward only: the crank turns forward and
 /// its angle channel is unwrapped). The crossing belongs to sample i, the first sample at or
-/// past the index.
+/// past the index. Sample 0's predecessor is the linear extension θ[−1] = 2θ[0] − θ[1] (and
+/// x[−1] = 2x[0] − x[1] for interpolated channels): a record that starts on the index has its
+/// crossing at sample 0, whichever side of the index round-off puts θ[0].
 struct IndexCrossing {
-  std::size_t sample{0};  ///< i ≥ 1: first sample at or past the index level
+  std::size_t sample{0};  ///< i: first sample at or past the index level
   double fraction{0.0};   ///< s ∈ (0, 1]: the crossing lies at sample position (i − 1) + s,
                           ///< by linear interpolation of θ between samples i−1 and i
   double time{0.0};       ///< start_time + (i − 1 + s) / sample_rate [s]

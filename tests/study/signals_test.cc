@@ -165,6 +165,32 @@ TEST(Revolutions, ACaptureStartingOnTheIndexCountsItsFirstRevolution) {
   }
 }
 
+TEST(IndexCrossings, ARecordStartingOnTheIndexHasItsFirstCrossingAtTheStart) {
+  // θ_i = L + 2π (i + offset)/100, x_i = 5 + 2 (i + offset): the crossings lie at i = 100k −
+  // offset and x there is 5 + 200k exactly. The first one is at the record's start (offset 0),
+  // a round-off before it (offset > 0: the linear extension θ[−1] = 2θ[0] − θ[1] finds it) or
+  // just after it (offset < 0): six crossings in 560 samples in every case.
+  const double rate = 1000.0, start = 2.0, index = 0.3;
+  for (const double offset : {0.0, 1e-9, -1e-9}) {
+    std::vector<double> theta(560), x(560);
+    for (std::size_t i = 0; i < theta.size(); ++i) {
+      const double u = static_cast<double>(i) + offset;
+      theta[i] = index + kTwoPi * u / 100.0;
+      x[i] = 5.0 + 2.0 * u;
+    }
+    TimeSeries ts(rate, start);
+    ts.AddChannel("crank_angle", "rad", theta);
+    ts.AddChannel("x", "m", x);
+    const PoincareMap map = CalcPoincareMap(ts, "crank_angle", index, {"x"}, ts.all());
+    ASSERT_EQ(map.num_points(), 6u) << offset;
+    for (std::size_t k = 0; k < map.num_points(); ++k) {
+      EXPECT_NEAR(map.time[k], start + (100.0 * static_cast<double>(k) - offset) / rate, 1e-12) << offset;
+      EXPECT_NEAR(map.points(static_cast<Eigen::Index>(k), 0), 5.0 + 200.0 * static_cast<double>(k), 1e-9)
+          << offset;
+    }
+  }
+}
+
 // ---- Poincaré map and jitter ------------------------------------------------------------------
 
 // Record of x = f(θ, revolution) with the crank at 2 rev/s sampled at `rate`.

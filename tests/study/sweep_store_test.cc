@@ -120,7 +120,7 @@ TEST(SweepStore, PoincarePointsOfAPeriodicRecordRepeatWithZeroJitter) {
   const StoredRun s = AnalyseRun(RigConfig(), SyntheticRun(), Options());
   ASSERT_GE(s.poincare.size(), 2u);
   EXPECT_EQ(s.poincare[0].name, "time");
-  ASSERT_EQ(s.poincare[0].values.size(), 4u);  // index crossings at samples 200 ... 800
+  ASSERT_EQ(s.poincare[0].values.size(), 5u);  // index crossings at samples 0, 200, ..., 800
   for (const StoredSeries& p : s.poincare) {
     if (p.name == "slider_acceleration") {
       for (double v : p.values) EXPECT_NEAR(v, kA, 1e-9);
