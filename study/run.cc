@@ -27,16 +27,30 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
   return out;
 }
 
-/// Channel recorder: names, units and a function per sample, filled in the capture window.
-/// Quantities several channels share, computed once per sample.
-struct SampleCache {
-  multibody::EnergyReport energy;
-  double constraint_violation{0.0};
-};
+/// A quantity several channels share, computed once per sample (keyed on the sample time).
+template <typename F>
+auto OncePerSample(F compute) {
+  using T = std::decay_t<std::invoke_result_t<F, const SampleView&>>;
+  struct Cache {
+    bool valid{false};
+    double t{0.0};
+    T value{};
+  };
+  const auto cache = std::make_shared<Cache>();
+  return [compute, cache](const SampleView& s) -> const T& {
+    if (!cache->valid || cache->t != s.t()) {
+      cache->value = compute(s);
+      cache->t = s.t();
+      cache->valid = true;
+    }
+    return cache->value;
+  };
+}
 
+/// Channel recorder: names, units and a function per sample, filled in the capture window.
 class Recorder {
  public:
-  using Fn = std::function<double(const SampleView&, const SampleCache&)>;
+  using Fn = std::function<double(const SampleView&)>;
   void Add(std::string name, std::string unit, Fn fn) {
     names_.push_back(std::move(name));
     units_.push_back(std::move(unit));
@@ -45,9 +59,7 @@ class Recorder {
   }
   void Record(const SampleView& s) {
     if (values_.empty() || values_[0].empty()) first_t_ = s.t();
-    cache_.energy = s.Energies();
-    cache_.constraint_violation = s.ConstraintViolation();
-    for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s, cache_));
+    for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s));
   }
   size_t size() const { return values_.empty() ? 0 : values_[0].size(); }
   const std::vector<std::string>& names() const { return names_; }
@@ -64,7 +76,6 @@ class Recorder {
   std::vector<std::string> names_, units_;
   std::vector<Fn> fns_;
   std::vector<std::vector<double>> values_;
-  SampleCache cache_;
   double first_t_{0.0};
 };
 
@@ -120,26 +131,6 @@ study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& 
   return out;
 }
 
-/// A quantity several channels share, computed once per sample (keyed on the sample time).
-template <typename F>
-auto OncePerSample(F compute) {
-  using T = std::decay_t<std::invoke_result_t<F, const SampleView&>>;
-  struct Cache {
-    bool valid{false};
-    double t{0.0};
-    T value{};
-  };
-  const auto cache = std::make_shared<Cache>();
-  return [compute, cache](const SampleView& s) -> const T& {
-    if (!cache->valid || cache->t != s.t()) {
-      cache->value = compute(s);
-      cache->t = s.t();
-      cache->valid = true;
-    }
-    return cache->value;
-  };
-}
-
 void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json) {
   const multibody::Mechanism& m = mm.mechanism;
   const auto conrod = mm.conrod;
@@ -148,39 +139,39 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
     const int sx = m.coordinate(mm.slider, multibody::kX);
     const auto driver = mm.driver;
-    rec->Add("crank_angle", "rad", [=](const SampleView& s, const SampleCache&) { return s.coordinate(crank_theta); });
-    rec->Add("crank_speed", "rad/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(crank_theta); });
-    rec->Add("crank_torque", "N*m", [=](const SampleView& s, const SampleCache&) { return s.Driver(driver).torque; });
-    rec->Add("slider_position", "m", [=](const SampleView& s, const SampleCache&) { return s.coordinate(sx); });
-    rec->Add("slider_velocity", "m/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(sx); });
-    rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s, const SampleCache&) { return s.acceleration(sx); });
+    rec->Add("crank_angle", "rad", [=](const SampleView& s) { return s.coordinate(crank_theta); });
+    rec->Add("crank_speed", "rad/s", [=](const SampleView& s) { return s.velocity(crank_theta); });
+    rec->Add("crank_torque", "N*m", [=](const SampleView& s) { return s.Driver(driver).torque; });
+    rec->Add("slider_position", "m", [=](const SampleView& s) { return s.coordinate(sx); });
+    rec->Add("slider_velocity", "m/s", [=](const SampleView& s) { return s.velocity(sx); });
+    rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s) { return s.acceleration(sx); });
     // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
     const auto big = OncePerSample([joint = mm.big_end_joint](const SampleView& s) { return s.Reaction(joint); });
-    rec->Add("big_end_force_x", "N", [=](const SampleView& s, const SampleCache&) { return big(s).force_j.x(); });
-    rec->Add("big_end_force_y", "N", [=](const SampleView& s, const SampleCache&) { return big(s).force_j.y(); });
+    rec->Add("big_end_force_x", "N", [=](const SampleView& s) { return big(s).force_j.x(); });
+    rec->Add("big_end_force_y", "N", [=](const SampleView& s) { return big(s).force_j.y(); });
     if (mm.small_end_joint.index >= 0) {  // ideal small-end joint
       // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
       const auto small = OncePerSample([joint = mm.small_end_joint](const SampleView& s) { return s.Reaction(joint); });
-      rec->Add("bearing_force_x", "N", [=](const SampleView& s, const SampleCache&) { return small(s).force_i.x(); });
-      rec->Add("bearing_force_y", "N", [=](const SampleView& s, const SampleCache&) { return small(s).force_i.y(); });
-      rec->Add("bearing_force", "N", [=](const SampleView& s, const SampleCache&) { return small(s).force_i.norm(); });
+      rec->Add("bearing_force_x", "N", [=](const SampleView& s) { return small(s).force_i.x(); });
+      rec->Add("bearing_force_y", "N", [=](const SampleView& s) { return small(s).force_i.y(); });
+      rec->Add("bearing_force", "N", [=](const SampleView& s) { return small(s).force_i.norm(); });
     }
     if (mm.clearance.index >= 0) {  // clearance small-end joint (multibody/clearance_joint.h)
       const auto at = OncePerSample(
           [joint = mm.clearance](const SampleView& s) { return multibody::CalcClearanceResponse(s, joint); });
       // Pin centre relative to the bush centre (world axes); penetration < 0 is the open gap.
-      rec->Add("journal_eccentricity_x", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity.x(); });
-      rec->Add("journal_eccentricity_y", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity.y(); });
-      rec->Add("journal_eccentricity", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.eccentricity_norm; });
-      rec->Add("penetration", "m", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.penetration; });
-      rec->Add("penetration_rate", "m/s", [=](const SampleView& s, const SampleCache&) { return at(s).kinematics.penetration_rate; });
-      rec->Add("contact_normal_force", "N", [=](const SampleView& s, const SampleCache&) { return at(s).normal_force; });
-      rec->Add("contact_friction_force", "N", [=](const SampleView& s, const SampleCache&) { return at(s).friction_force; });
-      rec->Add("contact_dissipation", "W", [=](const SampleView& s, const SampleCache&) { return at(s).dissipation(); });
+      rec->Add("journal_eccentricity_x", "m", [=](const SampleView& s) { return at(s).kinematics.eccentricity.x(); });
+      rec->Add("journal_eccentricity_y", "m", [=](const SampleView& s) { return at(s).kinematics.eccentricity.y(); });
+      rec->Add("journal_eccentricity", "m", [=](const SampleView& s) { return at(s).kinematics.eccentricity_norm; });
+      rec->Add("penetration", "m", [=](const SampleView& s) { return at(s).kinematics.penetration; });
+      rec->Add("penetration_rate", "m/s", [=](const SampleView& s) { return at(s).kinematics.penetration_rate; });
+      rec->Add("contact_normal_force", "N", [=](const SampleView& s) { return at(s).normal_force; });
+      rec->Add("contact_friction_force", "N", [=](const SampleView& s) { return at(s).friction_force; });
+      rec->Add("contact_dissipation", "W", [=](const SampleView& s) { return at(s).dissipation(); });
     }
   } else {
-    rec->Add("rod_angle", "rad", [=](const SampleView& s, const SampleCache&) { return s.coordinate(rod_theta); });
-    rec->Add("rod_angular_velocity", "rad/s", [=](const SampleView& s, const SampleCache&) { return s.velocity(rod_theta); });
+    rec->Add("rod_angle", "rad", [=](const SampleView& s) { return s.coordinate(rod_theta); });
+    rec->Add("rod_angular_velocity", "rad/s", [=](const SampleView& s) { return s.velocity(rod_theta); });
   }
   if (mm.rod) {
     const fem::ReducedRod& rod = *mm.rod;
@@ -192,7 +183,7 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     const int probe = static_cast<int>(std::lround(x_probe / rod.rod.element_length()));
     const int last = rod.rod.num_nodes() - 1;
     const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
-    rec->Add("rod_deflection", "m", [=](const SampleView& s, const SampleCache&) {
+    rec->Add("rod_deflection", "m", [=](const SampleView& s) {
       const Eigen::Map<const Vec> q(s.y() + q0, n);
       auto pos = [&](int k) -> Vec2 { return keep->nodes[k].position + keep->nodes[k].S_u * q; };
       const Vec2 a = pos(0), b = pos(last), c = pos(probe);
@@ -206,10 +197,10 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
       const std::string name = "gauge" + std::to_string(g + 1);
       const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
       const RowVec strain_row = rows.axial + rows.bending;
-      rec->Add("strain_" + name, "1", [=](const SampleView& s, const SampleCache&) {
+      rec->Add("strain_" + name, "1", [=](const SampleView& s) {
         return strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
       });
-      rec->Add("stress_" + name, "Pa", [=](const SampleView& s, const SampleCache&) {
+      rec->Add("stress_" + name, "Pa", [=](const SampleView& s) {
         return E * strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
       });
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
@@ -217,17 +208,17 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     for (int k = 0; k < n; ++k) {
       std::string name = "q";  // (not "q" + to_string: GCC 12 -Wrestrict false positive, PR 105329)
       name += std::to_string(k + 1);
-      rec->Add(name, "1", [=](const SampleView& s, const SampleCache&) { return s.coordinate(q0 + k); });
+      rec->Add(name, "1", [=](const SampleView& s) { return s.coordinate(q0 + k); });
     }
   }
-  using C = const SampleCache&;
-  rec->Add("energy_kinetic", "J", [](const SampleView&, C c) { return c.energy.kinetic; });
-  rec->Add("energy_strain", "J", [](const SampleView&, C c) { return c.energy.strain; });
+  const auto energy = OncePerSample([](const SampleView& s) { return s.Energies(); });
+  rec->Add("energy_kinetic", "J", [=](const SampleView& s) { return energy(s).kinetic; });
+  rec->Add("energy_strain", "J", [=](const SampleView& s) { return energy(s).strain; });
   rec->Add("energy_dissipated", "J",
-           [](const SampleView&, C c) { return c.energy.dissipated_elements + c.energy.dissipated_damping; });
-  rec->Add("driver_work", "J", [](const SampleView&, C c) { return c.energy.driver_work; });
-  rec->Add("energy_balance_error", "J", [](const SampleView&, C c) { return c.energy.balance_error; });
-  rec->Add("constraint_violation", "m", [](const SampleView&, C c) { return c.constraint_violation; });
+           [=](const SampleView& s) { return energy(s).dissipated_elements + energy(s).dissipated_damping; });
+  rec->Add("driver_work", "J", [=](const SampleView& s) { return energy(s).driver_work; });
+  rec->Add("energy_balance_error", "J", [=](const SampleView& s) { return energy(s).balance_error; });
+  rec->Add("constraint_violation", "m", [](const SampleView& s) { return s.ConstraintViolation(); });
 }
 
 multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {

@@ -20,6 +20,12 @@ double RevolutionNumber(double angle, double index_angle) {
   return std::floor((angle - index_angle) / kTwoPi);
 }
 
+// x[i − 1]; before the first sample, the record's linear extension x[−1] = 2x[0] − x[1]
+// (x.size() >= 2).
+double ValueBefore(std::span<const double> x, std::size_t i) {
+  return i > 0 ? x[i - 1] : 2.0 * x[0] - x[1];
+}
+
 // Calls f(IndexCrossing) for every crossing whose sample lies in [first, last), in time order,
 // until f returns false. Sample 0 has no predecessor: the record is extended linearly,
 // θ[−1] = 2θ[0] − θ[1], so a record that starts on the index (a triggered capture: θ[0] = L up
@@ -30,15 +36,12 @@ void ScanCrossings(std::span<const double> crank_angle, double index_angle, doub
   last = std::min(last, crank_angle.size());
   if (crank_angle.size() < 2) first = std::max<std::size_t>(first, 1);
   if (first >= last) return;
-  auto angle_before = [&](std::size_t i) {  // θ[i − 1]
-    return i > 0 ? crank_angle[i - 1] : 2.0 * crank_angle[0] - crank_angle[1];
-  };
-  double prev_rev = RevolutionNumber(angle_before(first), index_angle);
+  double prev_rev = RevolutionNumber(ValueBefore(crank_angle, first), index_angle);
   for (std::size_t i = first; i < last; ++i) {
     const double rev = RevolutionNumber(crank_angle[i], index_angle);
     for (double k = prev_rev + 1.0; k <= rev; k += 1.0) {
       const double level = index_angle + kTwoPi * k;
-      const double a = angle_before(i);
+      const double a = ValueBefore(crank_angle, i);
       const double b = crank_angle[i];
       // a < level ≤ b in exact arithmetic; clamp round-off of the quotient into (0, 1].
       double s = (level - a) / (b - a);
@@ -175,8 +178,7 @@ void InterpolateAtCrossings(std::span<const double> x, std::span<const IndexCros
   for (std::size_t j = 0; j < crossings.size(); ++j) {
     const IndexCrossing& c = crossings[j];
     FLEXROD_ASSERT(c.sample < x.size() && x.size() >= 2);
-    const double before = c.sample > 0 ? x[c.sample - 1] : 2.0 * x[0] - x[1];  // as ScanCrossings
-    out[j] = (1.0 - c.fraction) * before + c.fraction * x[c.sample];
+    out[j] = (1.0 - c.fraction) * ValueBefore(x, c.sample) + c.fraction * x[c.sample];
   }
 }
 
