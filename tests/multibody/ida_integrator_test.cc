@@ -68,15 +68,20 @@ IntegratorOptions Tight(LinearSolverKind kind = LinearSolverKind::kDense) {
   return o;
 }
 
+// Consistent start of x = cos ωt at t = 0: (x, v, a) = (1, 0, −ω²) and their rates.
+void StartOnCosine(IdaIntegrator* ida) {
+  const double y0[3] = {1.0, 0.0, -kOmega * kOmega};
+  const double yp0[3] = {0.0, -kOmega * kOmega, 0.0};
+  ida->Initialize(0.0, y0, yp0);
+}
+
 // Integrates to t_end, returning the max |x − cos ωt| over steps and the root times.
 double RunOscillator(LinearSolverKind kind, double t_end, std::vector<double>* roots,
                      IntegratorStats* stats) {
   Oscillator dae;
   IdaIntegrator ida(&dae, Tight(kind));
   EXPECT_EQ(ida.linear_solver(), kind);
-  const double y0[3] = {1.0, 0.0, -kOmega * kOmega};
-  const double yp0[3] = {0.0, -kOmega * kOmega, 0.0};
-  ida.Initialize(0.0, y0, yp0);
+  StartOnCosine(&ida);
   ida.SetStopTime(t_end);
   double worst = 0.0;
   for (;;) {
@@ -125,9 +130,7 @@ TEST(IdaIntegrator, KluPathGivesTheDenseResult) {
 TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
   Oscillator dae;
   IdaIntegrator ida(&dae, Tight());
-  const double y0[3] = {1.0, 0.0, -kOmega * kOmega};
-  const double yp0[3] = {0.0, -kOmega * kOmega, 0.0};
-  ida.Initialize(0.0, y0, yp0);
+  StartOnCosine(&ida);
   double worst = 0.0;
   for (int step = 0; step < 200; ++step) {
     ida.Step(10.0);
@@ -151,9 +154,7 @@ TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
 TEST(IdaIntegrator, ReinitialisationRestartsAndKeepsCountingSteps) {
   Oscillator dae;
   IdaIntegrator ida(&dae, Tight());
-  const double y0[3] = {1.0, 0.0, -kOmega * kOmega};
-  const double yp0[3] = {0.0, -kOmega * kOmega, 0.0};
-  ida.Initialize(0.0, y0, yp0);
+  StartOnCosine(&ida);
   for (int i = 0; i < 20; ++i) ida.Step(10.0);
   const long before = ida.stats().steps;
   const double t = ida.current_time();
