@@ -62,13 +62,15 @@ void WriteTables(const std::string& dir, const std::string& title, const std::ve
 
 /// One case of a study: the rigid-rig preset with the given overrides, written to dir/<tag>.
 std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag,
-                                 const std::vector<std::string>& sets) {
+                                 const std::vector<std::string>& sets, TwinCache* twins) {
   Config cfg;
   cfg.LoadToml(FindPreset("rigid-rig")->toml, "rigid-rig");
   for (const std::string& s : sets) cfg.SetAssignment(s);
   for (const std::string& s : opt.sets) cfg.SetAssignment(s);
   const auto t0 = std::chrono::steady_clock::now();
-  const RunResult r = RunSimulation(cfg);
+  RunOutputOptions outputs;
+  outputs.twins = twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
+  const RunResult r = RunSimulation(cfg, nullptr, false, outputs);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   WriteRunFiles(opt.out_dir + "/" + tag, cfg, r);
   if (!opt.no_plot) PlotRun(opt.out_dir + "/" + tag);  // slider acceleration against the ideal twin
@@ -92,6 +94,7 @@ int RunStudy(const StudyOptions& opt) {
                                          "amplification -", "impacts per rev.", "peak bearing force [N]",
                                          "wall [s]"};
   std::vector<std::vector<std::string>> rows;
+  TwinCache twins;
   if (opt.name == "rigid-rig-laws") {
     for (const std::string& law : contact::NormalLawNames()) {
       for (const char* rpm : {"101", "177"}) {
@@ -99,7 +102,8 @@ int RunStudy(const StudyOptions& opt) {
         std::fprintf(stderr, "study: %s\n", tag.c_str());
         std::vector<std::string> row = {law, rpm};
         const auto res = RunCase(opt, tag, {"joint.type=clearance", "joint.clearance=1 mm", "joint.law=" + law,
-                                            "drive.speed=" + std::string(rpm) + " rpm"});
+                                            "drive.speed=" + std::string(rpm) + " rpm"},
+                                 &twins);
         row.insert(row.end(), res.begin(), res.end());
         rows.push_back(row);
       }
@@ -114,7 +118,8 @@ int RunStudy(const StudyOptions& opt) {
         std::fprintf(stderr, "study: %s\n", tag.c_str());
         std::vector<std::string> row = {c, mu};
         const auto res = RunCase(opt, tag, {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
-                                            std::string("joint.friction=") + mu});
+                                            std::string("joint.friction=") + mu},
+                                 &twins);
         row.insert(row.end(), res.begin(), res.end());
         rows.push_back(row);
       }

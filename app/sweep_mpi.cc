@@ -91,7 +91,8 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
                                            std::to_string(jobs) +
                                            (jobs == 1 ? " thread" : " threads"));
   std::mutex mutex;
-  std::deque<int> queue(session->pending().begin(), session->pending().end());
+  const std::vector<int> order = study::TwinOrder(matrix, session->pending());
+  std::deque<int> queue(order.begin(), order.end());
   study::SweepEvent state;
   state.total = static_cast<int>(matrix.num_runs());
   state.to_run = static_cast<int>(queue.size());
@@ -116,12 +117,13 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
     queue.pop_front();
     return id;
   };
+  TwinCache twins;
   std::exception_ptr local_error;
   std::atomic<bool> local_failed{false};
   std::thread local([&] {
     try {
       study::RunOnThreads(jobs, pop, [&](int id) {
-        const study::StoredRun run = study::ComputeSweepRun(matrix, id, rods);
+        const study::StoredRun run = study::ComputeSweepRun(matrix, id, rods, &twins);
         session->Save(run);
         record(run);
       });
@@ -192,6 +194,7 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
 void Work(const MpiSession& mpi, const SweepRequest& request, const study::SweepMatrix& matrix) {
   const int jobs = JobsPerRank(request);
   study::RodCache rods;
+  TwinCache twins;
   const fs::path scratch =
       fs::temp_directory_path() /
       ("flexrod-sweep-rank" + std::to_string(mpi.rank()) + "-" + std::to_string(::getpid()));
@@ -219,7 +222,7 @@ void Work(const MpiSession& mpi, const SweepRequest& request, const study::Sweep
             id = ids.front();
             ids.pop_front();
           }
-          const study::StoredRun run = study::ComputeSweepRun(matrix, id, &rods);
+          const study::StoredRun run = study::ComputeSweepRun(matrix, id, &rods, &twins);
           const std::string path = (scratch / (std::to_string(id) + ".h5")).string();
           study::WritePartFile(path, run);
           std::string message(sizeof id, '\0');

@@ -529,21 +529,29 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
   if (!clearance || out.channels.num_samples() < 3) return out;
   // The ideal-joint twin: same mechanism, same rod, same capture window.
-  RunResult twin = RunOne(cfg, mm.rod, true, nullptr);
-  out.summary["ideal"] = twin.summary;
-  if (twin.ok() && twin.channels.num_samples() == out.channels.num_samples()) {
+  bool computed = false;
+  auto compute_twin = [&]() -> std::shared_ptr<const IdealTwin> {
+    computed = true;
+    RunResult t = RunOne(cfg, mm.rod, true, nullptr);
+    return std::make_shared<const IdealTwin>(
+        IdealTwin{std::move(t.summary), std::make_shared<const study::TimeSeries>(std::move(t.channels)), t.ok()});
+  };
+  const std::shared_ptr<const IdealTwin> twin = outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
+  out.summary["ideal"] = twin->summary;
+  out.summary["ideal"]["reused"] = !computed;
+  if (twin->ok && twin->channels->num_samples() == out.channels.num_samples()) {
     const double idx = cfg.Quantity("sim.index_angle");
     const study::SignalSummary real =
         study::CalcSignalSummary(out.channels, "slider_acceleration", "crank_angle", idx, out.channels.all());
     const study::SignalSummary ideal =
-        study::CalcSignalSummary(twin.channels, "slider_acceleration", "crank_angle", idx, twin.channels.all());
+        study::CalcSignalSummary(*twin->channels, "slider_acceleration", "crank_angle", idx, twin->channels->all());
     const study::LoadAmplification a = study::CalcLoadAmplification(real, ideal);
     auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json amp = {{"slider_acceleration_positive", num(a.positive)},
                           {"slider_acceleration_negative", num(a.negative)},
                           {"slider_acceleration_positive_p95", num(a.positive_p95)},
                           {"slider_acceleration_negative_p95", num(a.negative_p95)}};
-    const std::vector<double> fr = BearingForce(out.channels), fi = BearingForce(twin.channels);
+    const std::vector<double> fr = BearingForce(out.channels), fi = BearingForce(*twin->channels);
     if (!fr.empty() && !fi.empty()) {
       const double pr = *std::max_element(fr.begin(), fr.end());
       const double pi = *std::max_element(fi.begin(), fi.end());
@@ -553,8 +561,21 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     }
     out.summary["load_amplification"] = amp;
   }
-  out.ideal = std::move(twin.channels);
+  out.ideal = twin->channels;
   return out;
+}
+
+std::string TwinKey(const Config& cfg) {
+  std::string key;
+  for (const Config::Resolved& r : cfg.Resolve()) {
+    if (r.key.rfind("joint.", 0) != 0) key += r.key + "=" + r.value + ";";
+  }
+  return key;
+}
+
+std::shared_ptr<const IdealTwin> TwinCache::Get(const Config& cfg,
+                                                const std::function<std::shared_ptr<const IdealTwin>()>& compute) {
+  return twins_.Get(TwinKey(cfg), compute);
 }
 
 void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run) {

@@ -6,12 +6,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "common/once_cache.h"
 #include "multibody/simulate.h"
 #include "study/config.h"
 #include "study/slider_crank.h"
@@ -26,14 +28,44 @@ struct RunResult {
   multibody::SimulationStatus status;
   nlohmann::json summary;                 ///< peaks, RMS, statistics, energy, wall time,
                                           ///< and load_amplification for clearance runs
-  std::optional<study::TimeSeries> ideal; ///< the ideal-joint twin's channels (clearance runs)
+  /// The ideal-joint twin's channels (clearance runs; shared with other runs when the twin
+  /// came from a TwinCache).
+  std::shared_ptr<const study::TimeSeries> ideal;
   std::vector<study::Impact> impacts;     ///< impact log of the captured window (clearance runs)
   std::optional<study::VtkSeries> vtk;    ///< ParaView frames of the captured window, if requested
   std::string vtk_collection;             ///< path of the written .pvd, "" if none was written
   bool ok() const { return status.ok(); }
 };
 
-/// Optional outputs of a run beyond the channels. Sweeps use the defaults (nothing extra).
+/// The ideal-joint twin of a clearance run: its summary and channels.
+struct IdealTwin {
+  nlohmann::json summary;
+  std::shared_ptr<const study::TimeSeries> channels;
+  bool ok{false};
+};
+
+/// What a clearance run's ideal-joint twin depends on: every resolved input except the
+/// small-end joint's keys (joint.*), since the twin's joint is ideal. Runs with equal keys (a
+/// study or sweep over clearance, contact law, friction, restitution, materials of the pin and
+/// bush) have the same twin.
+std::string TwinKey(const Config& cfg);
+
+/// Ideal-joint twins shared by the clearance runs of a study or sweep, keyed by TwinKey: the
+/// first run computes its twin, runs with the same key reuse it. Keeps the 4 most recently used
+/// twins (a twin holds its whole capture: tens of MB at 100 kHz). Thread-safe.
+class TwinCache {
+ public:
+  /// The twin of `cfg`, from compute() if no run asked for its key (or it was evicted).
+  std::shared_ptr<const IdealTwin> Get(const Config& cfg,
+                                       const std::function<std::shared_ptr<const IdealTwin>()>& compute);
+  int num_computed() const { return static_cast<int>(twins_.num_computed()); }
+
+ private:
+  OnceCache<std::shared_ptr<const IdealTwin>> twins_{4};
+};
+
+/// Optional outputs of a run beyond the channels, and the twin cache. Sweeps and studies pass
+/// a TwinCache; otherwise the defaults (nothing extra).
 struct RunOutputOptions {
   /// Record ParaView frames (vtk.* keys, study/vtk.h) of the captured window of the run (not
   /// of its ideal-joint twin) into RunResult::vtk.
@@ -46,6 +78,9 @@ struct RunOutputOptions {
   /// Time each force element (multibody::SimulationOptions::time_elements) and report the
   /// seconds per element type in summary["integrator"]["element_time [s]"].
   bool time_elements{false};
+  /// Share the ideal-joint twin with the other runs using this cache (nullptr: compute it).
+  /// summary["ideal"]["reused"] says whether the twin came from an earlier run.
+  TwinCache* twins{nullptr};
 };
 
 /// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces an ideal

@@ -43,35 +43,10 @@ std::string JoinSet(const std::set<std::string>& names) {
 // ---- rods ---------------------------------------------------------------------------------
 
 std::shared_ptr<const fem::ReducedRod> RodCache::Get(const Config& cfg) {
-  const std::string key = RodKey(cfg);
-  std::promise<std::shared_ptr<const fem::ReducedRod>> promise;
-  std::shared_future<std::shared_ptr<const fem::ReducedRod>> future;
-  bool build = false;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto it = rods_.find(key);
-    if (it == rods_.end()) {
-      future = promise.get_future().share();
-      rods_.emplace(key, future);
-      build = true;
-    } else {
-      future = it->second;
-    }
-  }
-  if (build) {  // built outside the lock: other rods are built meanwhile by other threads
-    try {
-      promise.set_value(BuildReducedRod(cfg));
-    } catch (...) {
-      promise.set_exception(std::current_exception());
-    }
-  }
-  return future.get();
+  return rods_.Get(RodKey(cfg), [&cfg] { return BuildReducedRod(cfg); });
 }
 
-int RodCache::num_built() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return static_cast<int>(rods_.size());
-}
+int RodCache::num_built() const { return static_cast<int>(rods_.num_computed()); }
 
 // ---- validation and runs ----------------------------------------------------------------------
 
@@ -109,13 +84,15 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
   }
 }
 
-StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods) {
+StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins) {
   const auto t0 = std::chrono::steady_clock::now();
   const Config cfg = matrix.ConfigFor(id);
   StoredRun out;
   try {
     const std::shared_ptr<const fem::ReducedRod> rod = rods->Get(cfg);
-    const RunResult result = RunSimulation(cfg, rod);
+    RunOutputOptions outputs;
+    outputs.twins = twins;
+    const RunResult result = RunSimulation(cfg, rod, false, outputs);
     out = AnalyseRun(cfg, result, matrix.store);
   } catch (const InputError& e) {
     out = FailedRun(cfg, matrix.store, "input-error", e.what());
@@ -278,14 +255,28 @@ SweepSession::Outcome SweepSession::Assemble(bool keep_parts) {
   return outcome;
 }
 
+std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& ids) {
+  std::map<std::string, std::size_t> group_of;
+  std::vector<std::vector<int>> groups;
+  for (int id : ids) {
+    const auto [it, added] = group_of.emplace(TwinKey(matrix.ConfigFor(id)), groups.size());
+    if (added) groups.emplace_back();
+    groups[it->second].push_back(id);
+  }
+  std::vector<int> order;
+  for (const std::vector<int>& g : groups) order.insert(order.end(), g.begin(), g.end());
+  return order;
+}
+
 // ---- local sweep --------------------------------------------------------------------------
 
 SweepSession::Outcome RunSweep(const SweepMatrix& matrix, const std::string& store_path,
                                const SweepOptions& options) {
   RodCache rods;
+  TwinCache twins;
   ValidateSweep(matrix, &rods);
   SweepSession session(matrix, store_path);
-  const std::vector<int>& pending = session.pending();
+  const std::vector<int> pending = TwinOrder(matrix, session.pending());
   std::mutex event_mutex;
   SweepEvent state;
   state.total = static_cast<int>(matrix.runs.size());
@@ -299,7 +290,7 @@ SweepSession::Outcome RunSweep(const SweepMatrix& matrix, const std::string& sto
         return cursor < pending.size() ? std::optional<int>(pending[cursor++]) : std::nullopt;
       },
       [&](int id) {
-        const StoredRun run = ComputeSweepRun(matrix, id, &rods);
+        const StoredRun run = ComputeSweepRun(matrix, id, &rods, &twins);
         session.Save(run);
         std::lock_guard<std::mutex> lock(event_mutex);
         state.kind = SweepEvent::Kind::kRunDone;

@@ -19,7 +19,9 @@
 #include <string>
 #include <vector>
 
+#include "common/once_cache.h"
 #include "fem/reduced_rod.h"
+#include "study/run.h"
 #include "study/sweep_matrix.h"
 #include "study/sweep_store.h"
 
@@ -35,8 +37,7 @@ class RodCache {
   int num_built() const;  ///< rods built so far (distinct keys)
 
  private:
-  mutable std::mutex mutex_;
-  std::map<std::string, std::shared_future<std::shared_ptr<const fem::ReducedRod>>> rods_;
+  OnceCache<std::shared_ptr<const fem::ReducedRod>> rods_;
 };
 
 /// Checks a sweep before anything is written. Every run's rod and mechanism are built (an
@@ -46,9 +47,17 @@ class RodCache {
 /// (InputError("store.channels", name, "... available: ...")).
 void ValidateSweep(const SweepMatrix& matrix, RodCache* rods);
 
-/// Computes run `id` into what the store keeps. Never throws: an integrator failure, a
-/// NumericalError or an input rejected inside the solver become a failed run with its message.
-StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods);
+/// Computes run `id` into what the store keeps, sharing rods and ideal-joint twins with the
+/// other runs through the caches (`twins` may be null: every clearance run computes its twin).
+/// Never throws: an integrator failure, a NumericalError or an input rejected inside the solver
+/// become a failed run with its message.
+StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins);
+
+/// `ids` in the order to compute them: runs that share an ideal-joint twin (TwinKey: they
+/// differ only in joint.* keys) next to each other, so a TwinCache of a few twins computes
+/// each twin once; groups in the order of their first run, ids ascending within a group. The
+/// store does not depend on the order (it is assembled in run-id order).
+std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& ids);
 
 /// Runs work(id) on `jobs` threads for every id next() hands out (nullopt: done). The first
 /// exception thrown by work stops the hand-out and is rethrown after every thread has joined.

@@ -47,7 +47,7 @@ LimitResult RunLimit(const std::string& clearance) {
   cfg.Set("sim.abs_tol", "1e-10");
   const RunResult run = RunSimulation(cfg);
   LimitResult r;
-  r.ok = run.ok() && run.ideal.has_value();
+  r.ok = run.ok() && run.ideal != nullptr;
   EXPECT_TRUE(run.ok()) << run.status.Summary();
   if (!r.ok) return r;
   const auto a = run.channels.values("slider_acceleration");

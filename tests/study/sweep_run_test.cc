@@ -59,6 +59,30 @@ void ExpectSameStores(const std::string& a, const std::string& b) {
   }
 }
 
+TEST(SweepRun, RunsSharingAnIdealTwinAreComputedNextToEachOther) {
+  // Table 2's shape: clearance in the outer combinations, so 0.5 and 1.0 mm at one height and
+  // speed (the same twin) are far apart in run-id order.
+  const SweepMatrix m = Matrix(R"(
+[sweep]
+base = "rigid-rig"
+[set]
+"joint.type" = "clearance"
+[axes]
+"rod.rigid_mass" = ["0.5 kg", "0.6 kg"]
+[[combinations]]
+"joint.clearance" = "0.5 mm"
+"drive.speed" = ["100 rpm", "150 rpm"]
+[[combinations]]
+"joint.clearance" = "1.0 mm"
+"drive.speed" = ["100 rpm", "150 rpm"]
+)");
+  ASSERT_EQ(m.num_runs(), 8u);
+  // ids 0-3: 0.5 mm (mass 0.5: 100, 150; mass 0.6: 100, 150); ids 4-7: the same at 1.0 mm.
+  EXPECT_EQ(TwinOrder(m, {0, 1, 2, 3, 4, 5, 6, 7}), (std::vector<int>{0, 4, 1, 5, 2, 6, 3, 7}));
+  EXPECT_EQ(TwinOrder(m, {1, 5, 6}), (std::vector<int>{1, 5, 6}));
+  for (int id : {0, 1, 2, 3}) EXPECT_EQ(TwinKey(m.ConfigFor(id)), TwinKey(m.ConfigFor(id + 4)));
+}
+
 TEST(SweepRun, EachDistinctRodIsReducedOnceAndShared) {
   const SweepMatrix m = Matrix(R"(
 [sweep]
@@ -161,8 +185,8 @@ TEST(SweepRun, ResumedSweepSkipsFinishedRunsAndEndsWithTheSameStore) {
     RodCache rods;
     SweepSession session(m, store);
     ASSERT_EQ(session.pending().size(), 4u);
-    session.Save(ComputeSweepRun(m, 0, &rods));
-    session.Save(ComputeSweepRun(m, 2, &rods));
+    session.Save(ComputeSweepRun(m, 0, &rods, nullptr));
+    session.Save(ComputeSweepRun(m, 2, &rods, nullptr));
     std::ofstream(session.PartPath(3) + ".tmp") << "half-written";  // a kill during a write
     ASSERT_EQ(stat(session.PartPath(0).c_str(), &before), 0);
   }

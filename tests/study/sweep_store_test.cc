@@ -54,7 +54,7 @@ RunResult SyntheticRun() {
   run.channels = Record(kA);
   TimeSeries ideal = Record(kA);
   for (double& v : ideal.mutable_values("slider_acceleration")) v *= 0.5;  // exact halving
-  run.ideal = std::move(ideal);
+  run.ideal = std::make_shared<const TimeSeries>(std::move(ideal));
   run.summary = {{"wall_time [s]", 0.25}};
   return run;
 }
