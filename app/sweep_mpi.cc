@@ -91,7 +91,8 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
                                            std::to_string(jobs) +
                                            (jobs == 1 ? " thread" : " threads"));
   std::mutex mutex;
-  const std::vector<int> order = study::TwinOrder(matrix, session->pending());
+  // Runs handed out at about the same time (to every worker of every rank) have different twins.
+  const std::vector<int> order = study::TwinOrder(matrix, session->pending(), mpi.size() * jobs);
   std::deque<int> queue(order.begin(), order.end());
   study::SweepEvent state;
   state.total = static_cast<int>(matrix.num_runs());
@@ -117,7 +118,7 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
     queue.pop_front();
     return id;
   };
-  TwinCache twins;
+  TwinCache twins(static_cast<std::size_t>(jobs));
   std::exception_ptr local_error;
   std::atomic<bool> local_failed{false};
   std::thread local([&] {
@@ -194,7 +195,7 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
 void Work(const MpiSession& mpi, const SweepRequest& request, const study::SweepMatrix& matrix) {
   const int jobs = JobsPerRank(request);
   study::RodCache rods;
-  TwinCache twins;
+  TwinCache twins(static_cast<std::size_t>(jobs));
   const fs::path scratch =
       fs::temp_directory_path() /
       ("flexrod-sweep-rank" + std::to_string(mpi.rank()) + "-" + std::to_string(::getpid()));

@@ -6,6 +6,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -51,17 +53,18 @@ struct IdealTwin {
 std::string TwinKey(const Config& cfg);
 
 /// Ideal-joint twins shared by the clearance runs of a study or sweep, keyed by TwinKey: the
-/// first run computes its twin, runs with the same key reuse it. Keeps the 4 most recently used
-/// twins (a twin holds its whole capture: tens of MB at 100 kHz). Thread-safe.
+/// first run computes its twin, runs with the same key reuse it. Keeps the max(4, `keep`) most
+/// recently used twins (a twin holds its whole capture: tens of MB at 100 kHz). Thread-safe.
 class TwinCache {
  public:
+  explicit TwinCache(std::size_t keep = 4) : twins_(std::max<std::size_t>(keep, 4)) {}
   /// The twin of `cfg`, from compute() if no run asked for its key (or it was evicted).
   std::shared_ptr<const IdealTwin> Get(const Config& cfg,
                                        const std::function<std::shared_ptr<const IdealTwin>()>& compute);
   int num_computed() const { return static_cast<int>(twins_.num_computed()); }
 
  private:
-  OnceCache<std::shared_ptr<const IdealTwin>> twins_{4};
+  OnceCache<std::shared_ptr<const IdealTwin>> twins_;
 };
 
 /// Optional outputs of a run beyond the channels, and the twin cache. Sweeps and studies pass

@@ -255,7 +255,7 @@ SweepSession::Outcome SweepSession::Assemble(bool keep_parts) {
   return outcome;
 }
 
-std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& ids) {
+std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& ids, int jobs) {
   std::map<std::string, std::size_t> group_of;
   std::vector<std::vector<int>> groups;
   for (int id : ids) {
@@ -263,8 +263,21 @@ std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& id
     if (added) groups.emplace_back();
     groups[it->second].push_back(id);
   }
+  const std::size_t block = static_cast<std::size_t>(std::max(jobs, 1));
   std::vector<int> order;
-  for (const std::vector<int>& g : groups) order.insert(order.end(), g.begin(), g.end());
+  for (std::size_t first = 0; first < groups.size(); first += block) {
+    const std::size_t last = std::min(first + block, groups.size());
+    for (std::size_t k = 0; order.size() < ids.size(); ++k) {
+      bool any = false;
+      for (std::size_t g = first; g < last; ++g) {
+        if (k < groups[g].size()) {
+          order.push_back(groups[g][k]);
+          any = true;
+        }
+      }
+      if (!any) break;
+    }
+  }
   return order;
 }
 
@@ -273,10 +286,10 @@ std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& id
 SweepSession::Outcome RunSweep(const SweepMatrix& matrix, const std::string& store_path,
                                const SweepOptions& options) {
   RodCache rods;
-  TwinCache twins;
+  TwinCache twins(static_cast<std::size_t>(options.jobs));
   ValidateSweep(matrix, &rods);
   SweepSession session(matrix, store_path);
-  const std::vector<int> pending = TwinOrder(matrix, session.pending());
+  const std::vector<int> pending = TwinOrder(matrix, session.pending(), options.jobs);
   std::mutex event_mutex;
   SweepEvent state;
   state.total = static_cast<int>(matrix.runs.size());

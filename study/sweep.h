@@ -53,11 +53,13 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods);
 /// become a failed run with its message.
 StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins);
 
-/// `ids` in the order to compute them: runs that share an ideal-joint twin (TwinKey: they
-/// differ only in joint.* keys) next to each other, so a TwinCache of a few twins computes
-/// each twin once; groups in the order of their first run, ids ascending within a group. The
-/// store does not depend on the order (it is assembled in run-id order).
-std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& ids);
+/// `ids` in the order to compute them on `jobs` threads so that a TwinCache of `jobs` twins
+/// computes each ideal-joint twin once and no thread waits for another's twin: runs that share
+/// a twin (TwinKey: they differ only in joint.* keys) form groups, in the order of their first
+/// run; blocks of `jobs` groups are taken in turn, one run of each group of the block at a time
+/// (so the runs computed at the same moment have different twins). With one job, each group's
+/// runs are adjacent. The store does not depend on the order (it is assembled in run-id order).
+std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& ids, int jobs);
 
 /// Runs work(id) on `jobs` threads for every id next() hands out (nullopt: done). The first
 /// exception thrown by work stops the hand-out and is rethrown after every thread has joined.

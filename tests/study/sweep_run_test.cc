@@ -78,8 +78,12 @@ base = "rigid-rig"
 )");
   ASSERT_EQ(m.num_runs(), 8u);
   // ids 0-3: 0.5 mm (mass 0.5: 100, 150; mass 0.6: 100, 150); ids 4-7: the same at 1.0 mm.
-  EXPECT_EQ(TwinOrder(m, {0, 1, 2, 3, 4, 5, 6, 7}), (std::vector<int>{0, 4, 1, 5, 2, 6, 3, 7}));
-  EXPECT_EQ(TwinOrder(m, {1, 5, 6}), (std::vector<int>{1, 5, 6}));
+  const std::vector<int> all = {0, 1, 2, 3, 4, 5, 6, 7};
+  EXPECT_EQ(TwinOrder(m, all, 1), (std::vector<int>{0, 4, 1, 5, 2, 6, 3, 7}));
+  // Two threads: the two runs computed at once have different twins; each pair within a block.
+  EXPECT_EQ(TwinOrder(m, all, 2), (std::vector<int>{0, 1, 4, 5, 2, 3, 6, 7}));
+  EXPECT_EQ(TwinOrder(m, all, 3), (std::vector<int>{0, 1, 2, 4, 5, 6, 3, 7}));
+  EXPECT_EQ(TwinOrder(m, {1, 5, 6}, 1), (std::vector<int>{1, 5, 6}));
   for (int id : {0, 1, 2, 3}) EXPECT_EQ(TwinKey(m.ConfigFor(id)), TwinKey(m.ConfigFor(id + 4)));
 }
 
