@@ -530,28 +530,26 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   if (!clearance || out.channels.num_samples() < 3) return out;
   // The ideal-joint twin: same mechanism, same rod, same capture window.
   bool computed = false;
-  auto compute_twin = [&]() -> std::shared_ptr<const IdealTwin> {
+  auto compute_twin = [&] {
     computed = true;
-    RunResult t = RunOne(cfg, mm.rod, true, nullptr);
-    return std::make_shared<const IdealTwin>(
-        IdealTwin{std::move(t.summary), std::make_shared<const study::TimeSeries>(std::move(t.channels)), t.ok()});
+    return std::make_shared<const RunResult>(RunOne(cfg, mm.rod, true, nullptr));
   };
-  const std::shared_ptr<const IdealTwin> twin = outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
+  const std::shared_ptr<const RunResult> twin = outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
   out.summary["ideal"] = twin->summary;
   out.summary["ideal"]["reused"] = !computed;
-  if (twin->ok && twin->channels->num_samples() == out.channels.num_samples()) {
+  if (twin->ok() && twin->channels.num_samples() == out.channels.num_samples()) {
     const double idx = cfg.Quantity("sim.index_angle");
     const study::SignalSummary real =
         study::CalcSignalSummary(out.channels, "slider_acceleration", "crank_angle", idx, out.channels.all());
     const study::SignalSummary ideal =
-        study::CalcSignalSummary(*twin->channels, "slider_acceleration", "crank_angle", idx, twin->channels->all());
+        study::CalcSignalSummary(twin->channels, "slider_acceleration", "crank_angle", idx, twin->channels.all());
     const study::LoadAmplification a = study::CalcLoadAmplification(real, ideal);
     auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json amp = {{"slider_acceleration_positive", num(a.positive)},
                           {"slider_acceleration_negative", num(a.negative)},
                           {"slider_acceleration_positive_p95", num(a.positive_p95)},
                           {"slider_acceleration_negative_p95", num(a.negative_p95)}};
-    const std::vector<double> fr = BearingForce(out.channels), fi = BearingForce(*twin->channels);
+    const std::vector<double> fr = BearingForce(out.channels), fi = BearingForce(twin->channels);
     if (!fr.empty() && !fi.empty()) {
       const double pr = *std::max_element(fr.begin(), fr.end());
       const double pi = *std::max_element(fi.begin(), fi.end());
@@ -561,7 +559,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     }
     out.summary["load_amplification"] = amp;
   }
-  out.ideal = twin->channels;
+  out.ideal = std::shared_ptr<const study::TimeSeries>(twin, &twin->channels);  // lives with the twin
   return out;
 }
 
@@ -573,8 +571,8 @@ std::string TwinKey(const Config& cfg) {
   return key;
 }
 
-std::shared_ptr<const IdealTwin> TwinCache::Get(const Config& cfg,
-                                                const std::function<std::shared_ptr<const IdealTwin>()>& compute) {
+std::shared_ptr<const RunResult> TwinCache::Get(const Config& cfg,
+                                                const std::function<std::shared_ptr<const RunResult>()>& compute) {
   return twins_.Get(TwinKey(cfg), compute);
 }
 

@@ -39,13 +39,6 @@ struct RunResult {
   bool ok() const { return status.ok(); }
 };
 
-/// The ideal-joint twin of a clearance run: its summary and channels.
-struct IdealTwin {
-  nlohmann::json summary;
-  std::shared_ptr<const study::TimeSeries> channels;
-  bool ok{false};
-};
-
 /// What a clearance run's ideal-joint twin depends on: every resolved input except the
 /// small-end joint's keys (joint.*), since the twin's joint is ideal. Runs with equal keys (a
 /// study or sweep over clearance, contact law, friction, restitution, materials of the pin and
@@ -58,13 +51,13 @@ std::string TwinKey(const Config& cfg);
 class TwinCache {
  public:
   explicit TwinCache(std::size_t keep = 4) : twins_(std::max<std::size_t>(keep, 4)) {}
-  /// The twin of `cfg`, from compute() if no run asked for its key (or it was evicted).
-  std::shared_ptr<const IdealTwin> Get(const Config& cfg,
-                                       const std::function<std::shared_ptr<const IdealTwin>()>& compute);
+  /// The twin run of `cfg`, from compute() if no run asked for its key (or it was evicted).
+  std::shared_ptr<const RunResult> Get(const Config& cfg,
+                                       const std::function<std::shared_ptr<const RunResult>()>& compute);
   int num_computed() const { return static_cast<int>(twins_.num_computed()); }
 
  private:
-  OnceCache<std::shared_ptr<const IdealTwin>> twins_;
+  OnceCache<std::shared_ptr<const RunResult>> twins_;
 };
 
 /// Optional outputs of a run beyond the channels, and the twin cache. Sweeps and studies pass

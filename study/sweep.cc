@@ -11,6 +11,8 @@
 #include <chrono>
 #include <exception>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <set>
 #include <thread>
 

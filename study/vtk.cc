@@ -50,8 +50,9 @@ std::string NumberText(double v) {
   return s;
 }
 
+template <typename T>  // double or long
 void AppendArray(std::string* out, const char* type, const std::string& name,
-                 const std::vector<double>& v, const char* indent) {
+                 const std::vector<T>& v, const char* indent) {
   *out += indent;
   *out += "<DataArray type=\"";
   *out += type;
@@ -96,13 +97,16 @@ std::string FrameVtu(const VtkSeries& series, const VtkFrame& f) {
   AppendArray(&s, "Float64", "bending_stress [Pa]", f.bending_stress, "        ");
   AppendArray(&s, "Float64", "axial_stress [Pa]", f.axial_stress, "        ");
   s += "      </PointData>\n";
-  s += "      <CellData Scalars=\"part\">\n";
-  s += "        <DataArray type=\"Int32\" Name=\"part\" format=\"ascii\">\n          ";
-  for (size_t c = 0; c < L.cells.size(); ++c) {
-    if (c) s += ' ';
-    AppendNumber(&s, static_cast<long>(L.cells[c].part));
+  // Per cell: part, offset of its end in the connectivity, VTK type.
+  std::vector<long> part, offsets, types;
+  long offset = 0;
+  for (const VtkCell& c : L.cells) {
+    part.push_back(static_cast<long>(c.part));
+    offsets.push_back(offset += static_cast<long>(c.points.size()));
+    types.push_back(static_cast<long>(c.type));
   }
-  s += "\n        </DataArray>\n";
+  s += "      <CellData Scalars=\"part\">\n";
+  AppendArray(&s, "Int32", "part", part, "        ");
   s += "      </CellData>\n";
   s += "      <Points>\n";
   s += "        <DataArray type=\"Float64\" Name=\"position [m]\" NumberOfComponents=\"3\" "
@@ -127,20 +131,8 @@ std::string FrameVtu(const VtkSeries& series, const VtkFrame& f) {
     s += '\n';
   }
   s += "        </DataArray>\n";
-  s += "        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n          ";
-  long offset = 0;
-  for (size_t c = 0; c < L.cells.size(); ++c) {
-    offset += static_cast<long>(L.cells[c].points.size());
-    if (c) s += ' ';
-    AppendNumber(&s, offset);
-  }
-  s += "\n        </DataArray>\n";
-  s += "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n          ";
-  for (size_t c = 0; c < L.cells.size(); ++c) {
-    if (c) s += ' ';
-    AppendNumber(&s, static_cast<long>(L.cells[c].type));
-  }
-  s += "\n        </DataArray>\n";
+  AppendArray(&s, "Int32", "offsets", offsets, "        ");
+  AppendArray(&s, "UInt8", "types", types, "        ");
   s += "      </Cells>\n";
   s += "    </Piece>\n";
   s += "  </UnstructuredGrid>\n";
