@@ -74,10 +74,11 @@ int Run(const RunOptions& opt) {
   if (s.contains("load_amplification")) {
     const auto& a = s["load_amplification"];
     std::printf("  load amplification (real / ideal joint): slider acceleration +%s / -%s (p95 of per-rev peaks: "
-                "+%s / -%s), bearing force %s\n",
+                "+%s / -%s), bearing force %s (p95 %s)\n",
                 Ratio(a, "slider_acceleration_positive").c_str(), Ratio(a, "slider_acceleration_negative").c_str(),
                 Ratio(a, "slider_acceleration_positive_p95").c_str(),
-                Ratio(a, "slider_acceleration_negative_p95").c_str(), Ratio(a, "bearing_force").c_str());
+                Ratio(a, "slider_acceleration_negative_p95").c_str(), Ratio(a, "bearing_force").c_str(),
+                Ratio(a, "bearing_force_p95").c_str());
   }
   if (s.contains("rod")) {
     std::printf("  rod: peak gauge stress %.4g MPa, safety factor against yield %s\n",

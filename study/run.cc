@@ -506,10 +506,10 @@ std::vector<double> BearingForce(const study::TimeSeries& ts) {
   std::vector<double> f;
   if (!ts.HasChannel("contact_normal_force")) return f;
   const auto n = ts.values("contact_normal_force");
-  const bool has_t = ts.HasChannel("contact_friction_force");
-  for (size_t i = 0; i < n.size(); ++i) {
-    const double t = has_t ? ts.values("contact_friction_force")[i] : 0.0;
-    f.push_back(std::hypot(n[i], t));
+  f.assign(n.begin(), n.end());
+  if (ts.HasChannel("contact_friction_force")) {
+    const auto t = ts.values("contact_friction_force");
+    for (size_t i = 0; i < f.size(); ++i) f[i] = std::hypot(n[i], t[i]);
   }
   return f;
 }
@@ -556,6 +556,13 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
       amp["bearing_force"] = num(pi > 0 ? pr / pi : NAN);
       amp["bearing_force_peak_real [N]"] = pr;
       amp["bearing_force_peak_ideal [N]"] = pi;
+      // Per-revolution variant, as for the acceleration: ratio of the 95th percentiles of the
+      // per-revolution peaks. The whole-window peak is one impact, which the chaotic contact
+      // history moves (rigid rig, 177 rpm, 10 revolutions from rest: 165 at sim.rel_tol 1e-6,
+      // 132 at 3e-6, while the acceleration ratios agree to 3 digits; the p95 ratio: 100, 87).
+      const double br = study::CalcSignalSummary(fr, out.channels.values("crank_angle"), idx, out.channels.all()).positive.p95;
+      const double bi = study::CalcSignalSummary(fi, twin->channels.values("crank_angle"), idx, twin->channels.all()).positive.p95;
+      amp["bearing_force_p95"] = num(bi > 0 ? br / bi : NAN);
     }
     out.summary["load_amplification"] = amp;
   }

@@ -267,14 +267,14 @@ StoredRun AnalyseRun(const Config& cfg, const RunResult& run, const StoreOptions
       add("amplification_negative", amp.negative, "1");
       add("amplification_positive_p95", amp.positive_p95, "1");
       add("amplification_negative_p95", amp.negative_p95, "1");
-      double bearing = kNaN;
       const auto& la = run.summary.contains("load_amplification")
                            ? run.summary["load_amplification"]
                            : nlohmann::json();
-      if (la.is_object() && la.contains("bearing_force") && la["bearing_force"].is_number()) {
-        bearing = la["bearing_force"].get<double>();
-      }
-      add("amplification_bearing_force", bearing, "1");
+      auto ratio = [&la](const char* key) {
+        return la.is_object() && la.contains(key) && la[key].is_number() ? la[key].get<double>() : kNaN;
+      };
+      add("amplification_bearing_force", ratio("bearing_force"), "1");
+      add("amplification_bearing_force_p95", ratio("bearing_force_p95"), "1");
     } catch (const InputError&) {
     }
     try {
