@@ -12,6 +12,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -27,6 +28,15 @@ fs::path TempDir(const std::string& name) {
   fs::path p = fs::temp_directory_path() / ("flexrod_cli_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
+}
+
+/// Each command, with `--out DIR` appended, exits with 2 and DIR is never created.
+void ExpectExitTwoAndNoOutput(const std::string& name, const std::vector<std::string>& commands) {
+  const fs::path out = TempDir(name);
+  for (const std::string& c : commands) {
+    EXPECT_EQ(Flexrod(c + " --out " + out.string()), 2) << c;
+    EXPECT_FALSE(fs::exists(out)) << c;
+  }
 }
 
 TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
@@ -52,17 +62,12 @@ TEST(RunCli, ExampleFilesRunAsInputFiles) {
 }
 
 TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
-  const fs::path out = TempDir("bad");
-  EXPECT_EQ(Flexrod("run --set rod.colour=red --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("run --set rod.height=-3mm --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("run --set drive.speed=fast --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("run no-such-preset --out " + out.string()), 2);
-  EXPECT_FALSE(fs::exists(out));
   const fs::path bad_toml = TempDir("bad_toml");
   fs::create_directories(bad_toml);
   std::ofstream(bad_toml / "x.toml") << "[rod\nheight = ";
-  EXPECT_EQ(Flexrod("run " + (bad_toml / "x.toml").string() + " --out " + out.string()), 2);
-  EXPECT_FALSE(fs::exists(out));
+  ExpectExitTwoAndNoOutput("bad", {"run --set rod.colour=red", "run --set rod.height=-3mm",
+                                   "run --set drive.speed=fast", "run no-such-preset",
+                                   "run " + (bad_toml / "x.toml").string()});
   fs::remove_all(bad_toml);
 }
 
@@ -163,11 +168,9 @@ TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
 }
 
 TEST(RunCli, BadCsvSelectionExitsWithTwoBeforeTheRun) {
-  const fs::path out = TempDir("csv_bad");
-  EXPECT_EQ(Flexrod("run rigid-rig --set output.channels=penetrashun --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("run rigid-rig --set output.rate=\"30 kHz\" --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("run rigid-rig --set output.rate=\"-1 kHz\" --out " + out.string()), 2);
-  EXPECT_FALSE(fs::exists(out));
+  ExpectExitTwoAndNoOutput("csv_bad", {"run rigid-rig --set output.channels=penetrashun",
+                                       "run rigid-rig --set output.rate=\"30 kHz\"",
+                                       "run rigid-rig --set output.rate=\"-1 kHz\""});
 }
 
 // `flexrod run --vtk DIR`: the ParaView output of one run, and its bad-input path.
