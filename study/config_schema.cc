@@ -66,7 +66,7 @@ const std::vector<ParamDef>& Schema() {
       {"slider.mass", K::kQuantity, D::kMass, "2.71 kg", "slider + journal mass [kg], > 0"},
       {"slider.offset", K::kQuantity, D::kLength, "0 mm", "guide line offset from the crank axis [m]"},
       {"slider.damping", K::kQuantity, D::kDamping, "20 N s/m",
-       "viscous damping of the guide [N s/m] (assumed; thick grease on the rigid rig)"},
+       "viscous damping of the guide [N s/m] (assumed; the rigid-rig preset sets its calibrated value)"},
       {"slider.friction", K::kQuantity, D::kForce, "2 N", "Coulomb friction force of the guide [N] (assumed)"},
       {"slider.friction_velocity", K::kQuantity, D::kVelocity, "1 mm/s",
        "regularisation velocity of the guide friction, F = Fc tanh(v/v_reg) [m/s]"},

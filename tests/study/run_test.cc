@@ -179,7 +179,8 @@ TEST(RunRobustness, GrazingContactDoesNotStopTheRun) {
   // exactly zero at the root and just after it; IDA then refuses to continue
   // (IDA_ILL_INPUT, "Root found at and very near t"). The run re-initialises there instead.
   const RunResult r = RunSimulation(Preset(
-      "rigid-rig", {"joint.law=pereira", "drive.speed=101 rpm", "sim.settle=0 s", "sim.capture=0.3 s",
+      "rigid-rig", {"joint.law=pereira", "drive.speed=101 rpm", "slider.friction=2 N", "slider.damping=20 N s/m",
+                    "sim.settle=0 s", "sim.capture=0.3 s",
                     "sim.sample_rate=10 kHz"}));
   EXPECT_TRUE(r.ok()) << r.status.Summary();
   EXPECT_GE(r.status.root_stall_restarts, 1);  // the path was taken (1 at this horizon)
