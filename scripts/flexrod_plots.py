@@ -18,17 +18,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def read_csv(path):
+def read_csv(path, wanted):
+    """Columns of a channels CSV whose header is in `wanted` or starts with one of its entries
+    ending in "_" (a prefix), as numpy arrays by header. numpy's C parser reads only those."""
+    import numpy as np
+
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    header = rows[0]
-    cols = {h: [] for h in header}
-    for r in rows[1:]:
-        if not r:
-            continue
-        for h, v in zip(header, r):
-            cols[h].append(float(v))
-    return cols
+        header = next(csv.reader(f))
+
+    def keep(h):
+        return any(h == w or (w.endswith("_") and h.startswith(w)) for w in wanted)
+
+    idx = [i for i, h in enumerate(header) if keep(h)]
+    if not idx:
+        return {}
+    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=idx, ndmin=2)
+    return {header[i]: data[:, k] for k, i in enumerate(idx)}
 
 
 def save(fig, path):
@@ -39,20 +44,25 @@ def save(fig, path):
 
 
 def plot_run(directory):
-    cols = read_csv(os.path.join(directory, "channels.csv"))
-    ideal_path = os.path.join(directory, "ideal", "channels.csv")
-    ideal = read_csv(ideal_path) if os.path.exists(ideal_path) else None
-    # A run's CSV may hold a selection of channels (output.channels): draw what it has.
+    import numpy as np
+
     need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
+    cols = read_csv(os.path.join(directory, "channels.csv"),
+                    need + ("time [s]", "journal_eccentricity [m]", "journal_eccentricity_x [m]",
+                            "journal_eccentricity_y [m]", "bearing_force [N]", "contact_normal_force [N]",
+                            "contact_friction_force [N]", "strain_"))
+    ideal_path = os.path.join(directory, "ideal", "channels.csv")
+    ideal = read_csv(ideal_path, need) if os.path.exists(ideal_path) else None
+    # A run's CSV may hold a selection of channels (output.channels): draw what it has.
     has_main = all(h in cols for h in need)
     if ideal is not None and not all(h in ideal for h in need):
         ideal = None
     if has_main:
         fig, ax = plt.subplots(figsize=(9, 4.5))
-        ang = [math.degrees(a % (2 * math.pi)) for a in cols["crank_angle [rad]"]]
+        ang = np.degrees(np.mod(cols["crank_angle [rad]"], 2 * math.pi))
         ax.plot(ang, cols["slider_acceleration [m/s^2]"], ",", color="C0", label="model")
         if ideal:
-            ang_i = [math.degrees(a % (2 * math.pi)) for a in ideal["crank_angle [rad]"]]
+            ang_i = np.degrees(np.mod(ideal["crank_angle [rad]"], 2 * math.pi))
             ax.plot(ang_i, ideal["slider_acceleration [m/s^2]"], ",", color="C3", label="ideal joint")
             ax.legend(markerscale=20)
         ax.set_xlabel("crank angle [deg]")
@@ -66,7 +76,7 @@ def plot_run(directory):
     if strains:
         fig, ax = plt.subplots(figsize=(9, 4.5))
         for h in strains:
-            ax.plot(cols["time [s]"], [1e6 * v for v in cols[h]], lw=0.6, label=h.split(" ")[0])
+            ax.plot(cols["time [s]"], 1e6 * cols[h], lw=0.6, label=h.split(" ")[0])
         ax.set_xlabel("time [s]")
         ax.set_ylabel("surface strain [µm/m]")
         ax.legend()
@@ -247,8 +257,8 @@ def clearance_mm(directory):
 
 
 def plot_study(directory):
-    """Bar plot of the peak slider acceleration of every case in DIR/table.csv, and the
-    slider acceleration of every case against its ideal twin (one panel per case)."""
+    """Bar plot of the peak slider acceleration of every case in DIR/table.csv. (Each case's
+    directory holds its own plots, the slider acceleration against the ideal twin among them.)"""
     with open(os.path.join(directory, "table.csv"), newline="") as f:
         rows = list(csv.reader(f))
     header, rows = rows[0], rows[1:]

@@ -139,6 +139,40 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+/// True if `path` starts with the 8-byte PNG signature (a picture matplotlib finished).
+bool IsPng(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  return in.gcount() == 8 && std::string(sig, 8) == "\x89PNG\r\n\x1a\n";
+}
+
+// The plots of a run (scripts/flexrod_plots.py, Debian's python3-matplotlib): the slider
+// acceleration against the ideal twin, spectrum, Poincare map, journal orbit and bearing force
+// of a clearance run (0.4 s: more than one revolution at 177 rpm, for the Poincare map); the
+// strain gauges of a flexible one; none left half-written.
+TEST(RunCli, RunWritesItsPlots) {
+  const fs::path rigid = TempDir("plots_rigid");
+  ASSERT_EQ(Flexrod("run rigid-rig --set sim.settle=0s --set sim.capture=0.4s --set sim.sample_rate=20kHz "
+                    "--out " + rigid.string()),
+            0);
+  for (const char* png : {"slider_acceleration.png", "spectrum.png", "poincare.png", "journal_orbit.png",
+                          "bearing_force.png"}) {
+    EXPECT_TRUE(IsPng(rigid / png)) << png;
+  }
+  const fs::path flexible = TempDir("plots_flexible");
+  ASSERT_EQ(Flexrod("run flexible-rig --set sim.settle=0.01s --set sim.capture=0.05s --set sim.sample_rate=20kHz "
+                    "--out " + flexible.string()),
+            0);
+  EXPECT_TRUE(IsPng(flexible / "rod_strain.png"));
+  for (const fs::path& dir : {rigid, flexible}) {
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+    }
+    fs::remove_all(dir);
+  }
+}
+
 // output.channels / output.rate: what a run's CSV files hold.
 TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
   const fs::path out = TempDir("csv_select");
