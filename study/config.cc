@@ -188,7 +188,7 @@ std::vector<Config::Resolved> Config::Resolve() const {
   return out;
 }
 
-std::string Config::ResolvedToml() const {
+std::string Config::ResolvedToml(const DerivedNotes& notes) const {
   std::ostringstream os;
   os << "# flexrod resolved input: every key, SI values; '# default' marks values not set by the user\n";
   // Group keys by section (a TOML table may appear only once), sections in schema order.
@@ -205,18 +205,28 @@ std::string Config::ResolvedToml() const {
     return rank(a) < rank(b);
   });
   std::string section;
+  auto list_notes = [&] {
+    const auto it = notes.listed.find(section);
+    if (it == notes.listed.end()) return;
+    for (const std::string& line : it->second) os << "# " << line << "\n";
+  };
   for (const Resolved& r : all) {
     const size_t dot = r.key.rfind('.');
     const std::string sec = r.key.substr(0, dot);
     if (sec != section) {
+      list_notes();
       os << "\n[" << sec << "]\n";
       section = sec;
     }
     const ParamDef* p = FindParam(r.key);
     const bool quoted = p->kind == ParamKind::kChoice || p->kind == ParamKind::kText;
     os << r.key.substr(dot + 1) << " = " << (quoted ? "\"" + r.value + "\"" : r.value);
-    os << "  # " << (r.unit.empty() ? "" : "[" + r.unit + "] ") << (r.is_default ? "default" : "set") << "\n";
+    os << "  # " << (r.unit.empty() ? "" : "[" + r.unit + "] ") << (r.is_default ? "default" : "set");
+    const auto note = notes.beside.find(r.key);
+    if (note != notes.beside.end()) os << "; " << note->second;
+    os << "\n";
   }
+  list_notes();
   return os.str();
 }
 

@@ -62,8 +62,16 @@ class Config {
     bool is_default;
   };
   std::vector<Resolved> Resolve() const;
-  /// The resolved input as TOML text (SI numbers, units in comments).
-  std::string ResolvedToml() const;
+  /// What a run derived from the input (a clearance joint's contact parameters), for the
+  /// resolved input: `beside` maps a schema key to a note on its line (the value the run used
+  /// where the key says 0 = derive); `listed` maps a section to comment lines at its end.
+  struct DerivedNotes {
+    std::map<std::string, std::string> beside;
+    std::map<std::string, std::vector<std::string>> listed;
+  };
+  /// The resolved input as TOML text (SI numbers, units in comments). The notes are comments
+  /// only: the file loads as an input and gives the same run.
+  std::string ResolvedToml(const DerivedNotes& notes = {}) const;
 
  private:
   std::string Raw(const std::string& key) const;

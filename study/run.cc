@@ -583,10 +583,39 @@ std::shared_ptr<const RunResult> TwinCache::Get(const Config& cfg,
   return twins_.Get(TwinKey(cfg), compute);
 }
 
+/// The clearance joint's resolved contact parameters (summary "joint_parameters") as notes for
+/// the resolved input: beside a joint.* key, the value the run used where the key's value
+/// differs (0 = derive); the others (pin radius, moduli, a law's internal quantities, the
+/// friction law's) listed at the end of [joint].
+Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params) {
+  Config::DerivedNotes notes;
+  for (const auto& [name, p] : params.items()) {
+    const double value = p.at("value").get<double>();
+    const std::string unit = p.at("unit").get<std::string>();
+    const std::string text = FormatValue(value) + (unit.empty() || unit == "1" ? "" : " " + unit) + " (" +
+                             p.at("source").get<std::string>() + ")";
+    std::string key = name;
+    const std::string law = "joint.law.";
+    if (key.rfind(law, 0) == 0) {
+      key = "joint." + key.substr(law.size());
+      std::replace(key.begin(), key.end(), '-', '_');
+    }
+    const ParamDef* def = FindParam(key);
+    if (def && def->kind == ParamKind::kQuantity) {
+      if (cfg.Quantity(key) != value) notes.beside[key] = "used: " + text;
+    } else {
+      notes.listed["joint"].push_back("resolved " + name + " = " + text);
+    }
+  }
+  return notes;
+}
+
 void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run) {
   EnsureDirectory("--out", dir);
   const CsvSelection csv = ReadCsvSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
-  WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml());
+  const Config::DerivedNotes notes =
+      run.summary.contains("joint_parameters") ? JointNotes(cfg, run.summary["joint_parameters"]) : Config::DerivedNotes{};
+  WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml(notes));
   study::WriteCsv(SelectForCsv(run.channels, csv), dir + "/channels.csv");
   if (!run.impacts.empty()) study::WriteImpactCsv(run.impacts, dir + "/impacts.csv");
   if (run.ideal) {

@@ -173,6 +173,45 @@ TEST(RunCli, RunWritesItsPlots) {
   }
 }
 
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The resolved input names the contact parameters the run derived (issue 4: "the resolved
+// values are written into the run's resolved input"), as comments, so that the file still
+// loads as an input (0 = derive) and reruns the same mechanism.
+TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
+  const fs::path first = TempDir("resolved_first"), again = TempDir("resolved_again");
+  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.1s --set joint.exponent=1.4 "
+                    "--out " + first.string()),
+            0);
+  const std::string toml = ReadText(first / "resolved.toml");
+  // Hybrid law, steel on steel: the stiffness is fitted to ESDU-78035; the user's exponent was used
+  // as given, so it gets no note.
+  EXPECT_TRUE(std::regex_search(toml, std::regex("\nstiffness = 0  # \\[SI\\] default; used: [0-9.e+]+ N/m\\^1\\.4 "
+                                                 "\\(derived\\)\n")))
+      << toml;
+  EXPECT_NE(toml.find("\nexponent = 1.4  # [1] set\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("# resolved joint.pin_radius = 0.008525 m (derived)\n"), std::string::npos) << toml;
+  ASSERT_EQ(Flexrod("run " + (first / "resolved.toml").string() + " --no-plot --out " + again.string()), 0);
+  std::ifstream a(first / "summary.json"), b(again / "summary.json");
+  const nlohmann::json sa = nlohmann::json::parse(a), sb = nlohmann::json::parse(b);
+  EXPECT_EQ(sa["joint_parameters"].size(), sb["joint_parameters"].size());
+  for (const auto& [name, p] : sa["joint_parameters"].items()) {
+    EXPECT_NEAR(p["value"].get<double>(), sb["joint_parameters"][name]["value"].get<double>(),
+                1e-9 * std::abs(p["value"].get<double>()))
+        << name;
+  }
+  // The resolved input holds SI values to 12 digits: the rerun agrees to about that.
+  const double peak = sa["channels"]["slider_acceleration"]["peak_abs"].get<double>();
+  EXPECT_NEAR(sb["channels"]["slider_acceleration"]["peak_abs"].get<double>(), peak, 1e-6 * peak);
+  fs::remove_all(first);
+  fs::remove_all(again);
+}
+
 // output.channels / output.rate: what a run's CSV files hold.
 TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
   const fs::path out = TempDir("csv_select");
