@@ -583,6 +583,8 @@ std::shared_ptr<const RunResult> TwinCache::Get(const Config& cfg,
   return twins_.Get(TwinKey(cfg), compute);
 }
 
+namespace {
+
 /// The clearance joint's resolved contact parameters (summary "joint_parameters") as notes for
 /// the resolved input: beside a joint.* key, the value the run used where the key's value
 /// differs (0 = derive); the others (pin radius, moduli, a law's internal quantities, the
@@ -609,6 +611,8 @@ Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params)
   }
   return notes;
 }
+
+}  // namespace
 
 void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run) {
   EnsureDirectory("--out", dir);
