@@ -16,13 +16,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 
 def read_csv(path, wanted):
     """Columns of a channels CSV whose header is in `wanted` or starts with one of its entries
     ending in "_" (a prefix), as numpy arrays by header. numpy's C parser reads only those."""
-    import numpy as np
-
     with open(path, newline="") as f:
         header = next(csv.reader(f))
 
@@ -44,8 +43,6 @@ def save(fig, path):
 
 
 def plot_run(directory):
-    import numpy as np
-
     need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
     cols = read_csv(os.path.join(directory, "channels.csv"),
                     need + ("time [s]", "journal_eccentricity [m]", "journal_eccentricity_x [m]",
@@ -179,8 +176,6 @@ def plot_compare(directory, max_points=20000):
 
 def plot_run_analysis(directory, cols):
     """Spectrum, Poincare map, journal orbit and bearing force of one run."""
-    import numpy as np
-
     t = np.asarray(cols["time [s]"])
     acc = np.asarray(cols["slider_acceleration [m/s^2]"])
     theta = np.asarray(cols["crank_angle [rad]"])
