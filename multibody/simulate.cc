@@ -325,11 +325,19 @@ void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,
 
 // ---- MechanismDae -------------------------------------------------------------------------------------
 MechanismDae::MechanismDae(const Mechanism& model, RunData* data,
+                           const PrescribedMotion& prescribed,
                            std::optional<IndexEventSpec> index, double velocity_tol_scale,
                            double energy_tol_scale)
-    : model_(model), data_(data), index_(index), velocity_tol_scale_(velocity_tol_scale),
-      energy_tol_scale_(energy_tol_scale) {
+    : model_(model), data_(data), prescribed_(prescribed), index_(index),
+      velocity_tol_scale_(velocity_tol_scale), energy_tol_scale_(energy_tol_scale),
+      y_full_(Vec::Zero(model.size())), yp_full_(Vec::Zero(model.size())),
+      r_full_(Vec::Zero(model.size())), jac_full_(Mat::Zero(model.size(), model.size())) {
   FLEXROD_ASSERT(data->model == &model);
+  FLEXROD_ASSERT(prescribed.full_size() == model.size());
+}
+
+void MechanismDae::Expand(double t, const double* y, const double* yp) {
+  prescribed_.Expand(t, y, yp, y_full_.data(), yp_full_.data());
 }
 
 int MechanismDae::num_roots() const {
@@ -340,34 +348,55 @@ int MechanismDae::index_root() const {
   return index_.has_value() ? model_.num_element_roots() : -1;
 }
 
-void MechanismDae::DifferentialMask(double* id) const { multibody::DifferentialMask(model_, id); }
+void MechanismDae::DifferentialMask(double* id) const {
+  Vec full(model_.size());
+  multibody::DifferentialMask(model_, full.data());
+  prescribed_.Reduce(full.data(), id);
+}
 
 void MechanismDae::StepScaledWeightMask(double* mask) const {
+  Vec full(model_.size());
   for (int i = 0; i < model_.size(); ++i) {
-    mask[i] = (i >= model_.lambda_offset() && i < model_.z_offset()) ? 1.0 : 0.0;
+    full[i] = (i >= model_.lambda_offset() && i < model_.z_offset()) ? 1.0 : 0.0;
   }
+  prescribed_.Reduce(full.data(), mask);
 }
 
 void MechanismDae::AbsoluteToleranceScales(double* scales) const {
-  multibody::AbsoluteToleranceScales(model_, velocity_tol_scale_, energy_tol_scale_, scales);
+  Vec full(model_.size());
+  multibody::AbsoluteToleranceScales(model_, velocity_tol_scale_, energy_tol_scale_, full.data());
+  prescribed_.Reduce(full.data(), scales);
 }
 
 int MechanismDae::Residual(double t, const double* y, const double* yp, double* r) {
-  return CalcResidual(model_, data_, t, y, yp, r);
+  Expand(t, y, yp);
+  const int rc = CalcResidual(model_, data_, t, y_full_.data(), yp_full_.data(), r_full_.data());
+  const std::vector<int>& rows = prescribed_.kept_rows();
+  for (size_t i = 0; i < rows.size(); ++i) r[i] = r_full_[rows[i]];
+  return rc;
 }
 
 int MechanismDae::Jacobian(double t, double cj, const double* y, const double* yp, double* jac) {
-  return AddJacobian(model_, data_, t, cj, y, yp, jac, model_.size());
+  if (prescribed_.num_prescribed_coordinates() == 0) {
+    return AddJacobian(model_, data_, t, cj, y, yp, jac, model_.size());
+  }
+  Expand(t, y, yp);
+  jac_full_.setZero();
+  const int rc = AddJacobian(model_, data_, t, cj, y_full_.data(), yp_full_.data(),
+                             jac_full_.data(), model_.size());
+  prescribed_.AddReducedMatrix(jac_full_.data(), jac);
+  return rc;
 }
 
 SparsityPattern MechanismDae::JacobianPattern() const {
-  return multibody::JacobianPattern(model_);
+  return prescribed_.ReducePattern(multibody::JacobianPattern(model_));
 }
 
-int MechanismDae::Roots(double t, const double* y, const double* /*yp*/, double* g) {
-  CalcElementRoots(model_, data_, t, y, g);
+int MechanismDae::Roots(double t, const double* y, const double* yp, double* g) {
+  Expand(t, y, yp);
+  CalcElementRoots(model_, data_, t, y_full_.data(), g);
   if (index_.has_value()) {
-    const double theta = y[model_.coordinate(index_->body, kTheta)];
+    const double theta = y_full_[model_.coordinate(index_->body, kTheta)];
     g[model_.num_element_roots()] = std::sin(0.5 * (theta - index_->angle));
   }
   return 0;
@@ -521,15 +550,29 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
                                                                : AutoVelocityTolScale(model);
   data->time_elements = options.time_elements;
   for (ElementScratch& es : data->elements) es.seconds = 0.0;
-  MechanismDae dae(model, data, options.index_event, status.velocity_tol_scale,
+  PrescribedMotion prescribed(model, options.eliminate_prescribed);
+  MechanismDae dae(model, data, prescribed, options.index_event, status.velocity_tol_scale,
                    options.energy_tol_scale);
   IdaIntegrator ida(&dae, options.integrator);
   status.linear_solver = ida.linear_solver();
   data->reference_energy = InitialEnergy(model, data, state.y);
 
-  Vec ybuf = state.y, ypbuf = state.yp;  // dense-output buffers
-  Vec yev(N), ypev(N);                  // event/restart state
-  ida.Initialize(t0, state.y.data(), state.yp.data());
+  // IDA integrates the kept unknowns (size n); everything else sees the full layout (size N).
+  const int n = prescribed.size();
+  Vec yr(n), ypr(n);                    // reduced state / dense output
+  Vec ybuf = state.y, ypbuf = state.yp;  // full dense-output buffers
+  Vec yev(N), ypev(N);                  // full event/restart state
+  auto initialize = [&](double t, const Vec& y, const Vec& yp) {
+    prescribed.StartSegment(t);
+    prescribed.Reduce(y.data(), yr.data());
+    prescribed.Reduce(yp.data(), ypr.data());
+    ida.Initialize(t, yr.data(), ypr.data());
+  };
+  // The integrator's current (or an interpolated reduced) state in the full layout.
+  auto expand_current = [&](double t, Vec* y, Vec* yp) {
+    prescribed.Expand(t, ida.y(), ida.yp(), y->data(), yp->data());
+  };
+  initialize(t0, state.y, state.yp);
 
   std::vector<double> stops = model.Breakpoints(t0, t_end);
   stops.push_back(t_end);
@@ -564,7 +607,9 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
           ida.CacheStepPolynomial();  // one set of IDAGetDky calls per step, not per sample
           cached = true;
         }
-        ida.EvaluateStepPolynomial(std::min(ts, t_ret), ybuf.data(), ypbuf.data());
+        const double te = std::min(ts, t_ret);
+        ida.EvaluateStepPolynomial(te, yr.data(), ypr.data());
+        prescribed.Expand(te, yr.data(), ypr.data(), ybuf.data(), ypbuf.data());
         emit(ts, ybuf.data(), ypbuf.data());
       } else {
         emit(ts, state.y.data(), state.yp.data());
@@ -579,12 +624,13 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
     status.message = message;
     status.hint = hint;
     status.t_reached = t_fail;
-    Eigen::Map<const Vec> y(ida.y(), N), yp(ida.yp(), N);
+    Vec y(N), yp(N);
+    expand_current(t_fail, &y, &yp);
     status.norm_coordinates = y.head(np).norm();
     status.norm_velocities = y.segment(np, np).norm();
     status.norm_multipliers = y.segment(model.lambda_offset(), model.num_constraints()).norm();
     Vec r(N);
-    CalcResidual(model, data, t_fail, ida.y(), ida.yp(), r.data());
+    CalcResidual(model, data, t_fail, y.data(), yp.data(), r.data());
     status.worst_residual_index = WorstIndex(r);
     if (status.worst_residual_index >= 0) {
       status.worst_residual = r(status.worst_residual_index);
@@ -592,12 +638,13 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
     }
     ida.WorstLocalError(&status.worst_error_index, &status.worst_weighted_error);
     if (status.worst_error_index >= 0) {
+      status.worst_error_index = prescribed.kept_unknowns()[status.worst_error_index];
       status.worst_error_variable = model.VariableName(status.worst_error_index);
     }
   };
   auto restart = [&](double t) {
     ComputeConsistentDerivatives(model, data, t, &yev, &ypev);
-    ida.Initialize(t, yev.data(), ypev.data());
+    initialize(t, yev, ypev);
     ida.SetStopTime(stops[stop_index]);
   };
 
@@ -622,8 +669,7 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       emit_up_to(t_now, true);
       if (res.outcome == StepOutcome::kRoot) {
         ida.RootInfo(roots);
-        yev = Eigen::Map<const Vec>(ida.y(), N);
-        ypev = Eigen::Map<const Vec>(ida.yp(), N);
+        expand_current(t_now, &yev, &ypev);
         UpdateKinematics(model, data, yev.data());
         bool must_restart = false;
         for (const ElementSlot& e : model.elements()) {
@@ -663,14 +709,14 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
                                       " re-initialisations did not help)",
                                   -22, "IDA_ILL_INPUT", t_now);
         }
-        yev = Eigen::Map<const Vec>(ida.y(), N);
+        expand_current(t_now, &yev, &ypev);
         restart(t_now);
         ++status.root_stall_restarts;
         continue;
       } else if (res.outcome == StepOutcome::kStopTime) {
         if (stop_index + 1 >= stops.size() || t_end - t_now <= t_fuzz) break;  // t_end reached
         ++stop_index;
-        yev = Eigen::Map<const Vec>(ida.y(), N);
+        expand_current(t_now, &yev, &ypev);
         restart(t_now);  // speed-profile knot: the prescribed acceleration jumps
       }
       if (t_end - t_now <= t_fuzz) break;

@@ -18,6 +18,7 @@
 #include "multibody/ida_integrator.h"
 #include "multibody/mechanism.h"
 #include "multibody/outputs.h"
+#include "multibody/prescribed.h"
 #include "multibody/run_data.h"
 
 namespace flexrod::multibody {
@@ -69,13 +70,16 @@ struct IndexEventSpec {
   double angle{0.0};    ///< θ_index [rad]; events at θ = θ_index + 2πk
 };
 
-/// The mechanism DAE seen by IdaIntegrator. Roots: the element roots, then (optionally) the
-/// index root sin((θ − θ_index)/2), which changes sign exactly at θ = θ_index + 2πk.
+/// The mechanism DAE seen by IdaIntegrator, on the unknowns `prescribed` keeps (prescribed.h):
+/// each call expands them to the full layout, evaluates dae.h there and gathers the kept rows
+/// (and columns). Roots: the element roots, then (optionally) the index root
+/// sin((θ − θ_index)/2), which changes sign exactly at θ = θ_index + 2πk.
 class MechanismDae final : public DaeSystem {
  public:
-  MechanismDae(const Mechanism& model, RunData* data, std::optional<IndexEventSpec> index,
-               double velocity_tol_scale = 1.0, double energy_tol_scale = 1.0);
-  int size() const override { return model_.size(); }
+  MechanismDae(const Mechanism& model, RunData* data, const PrescribedMotion& prescribed,
+               std::optional<IndexEventSpec> index, double velocity_tol_scale = 1.0,
+               double energy_tol_scale = 1.0);
+  int size() const override { return prescribed_.size(); }
   int num_roots() const override;
   void DifferentialMask(double* id) const override;
   /// The multipliers λ, μ (index 2); not the energy quadratures.
@@ -88,10 +92,14 @@ class MechanismDae final : public DaeSystem {
   int index_root() const;  ///< position of the index root, −1 if none
 
  private:
+  void Expand(double t, const double* y, const double* yp);
   const Mechanism& model_;
   RunData* data_;
+  const PrescribedMotion& prescribed_;
   std::optional<IndexEventSpec> index_;
   double velocity_tol_scale_, energy_tol_scale_;
+  Vec y_full_, yp_full_, r_full_;  ///< full-layout scratch
+  Mat jac_full_;
 };
 
 // ---- run loop -------------------------------------------------------------------------------------
@@ -128,6 +136,9 @@ struct SimulationOptions {
   /// 0 (default) = AutoVelocityTolScale(model). See kElasticJointVelocityTolScale.
   double velocity_tol_scale{0.0};
   double energy_tol_scale{1.0};    ///< abs tolerance of the energy quadratures = abs_tol · this, > 0
+  /// Integrate without the coordinates that ground-side constraints prescribe (prescribed.h);
+  /// false integrates the full DAE (the same solution; for checks).
+  bool eliminate_prescribed{true};
   /// Time each force element's evaluations in residuals and its Jacobian block
   /// (SimulationStatus::element_seconds); off by default (two clock reads per element per call).
   bool time_elements{false};

@@ -1,0 +1,195 @@
+// multibody/prescribed.cc — prescribed coordinates and the reduced DAE's index maps.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "multibody/prescribed.h"
+
+#include <cmath>
+
+#include "common/error.h"
+
+namespace flexrod::multibody {
+namespace {
+
+inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }  // J a
+inline Vec2 Rotate(double angle, const Vec2& a) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return Vec2(c * a.x() - s * a.y(), s * a.x() + c * a.y());
+}
+
+}  // namespace
+
+PrescribedMotion::PrescribedMotion(const Mechanism& model, bool enabled)
+    : model_(model), full_size_(model.size()) {
+  const auto& markers = model.markers();
+  const auto& bodies = model.bodies();
+  std::vector<bool> used(bodies.size(), false);
+  auto rigid = [&](int body) { return body >= 0 && bodies[body].num_modes == 0; };
+  auto rows_of = [](const Joint& jt) {
+    std::vector<int> r;
+    for (int k = 0; k < jt.num_rows; ++k) r.push_back(jt.row + k);
+    return r;
+  };
+  if (enabled) {
+    for (const Joint& jt : model.joints()) {
+      Set s;
+      if (jt.kind == JointKind::kGround) {
+        s.kind = Kind::kHeld;
+        s.body = jt.body;
+        s.held = jt.ground_position;
+        s.angle = jt.ground_angle;
+        s.slots = {kX, kY, kTheta};
+        s.rows = rows_of(jt);
+      } else if (jt.kind == JointKind::kRevolute) {
+        const Marker& a = markers[jt.marker_i];
+        const Marker& b = markers[jt.marker_j];
+        const Marker* ground = a.body < 0 ? &a : (b.body < 0 ? &b : nullptr);
+        const Marker* moving = a.body < 0 ? &b : &a;
+        if (ground == nullptr || !rigid(moving->body)) continue;
+        int driver = -1;
+        for (size_t d = 0; d < model.drivers().size(); ++d) {
+          const Driver& dr = model.drivers()[d];
+          if (dr.body == moving->body && dr.is_constraint()) driver = static_cast<int>(d);
+        }
+        if (driver < 0) continue;
+        s.kind = Kind::kDriven;
+        s.body = moving->body;
+        s.driver = driver;
+        s.pivot = ground->position;
+        s.marker = moving->position;
+        s.slots = {kX, kY, kTheta};
+        s.rows = rows_of(jt);
+        s.rows.push_back(model.drivers()[driver].row);
+      } else if (jt.kind == JointKind::kPrismatic) {
+        const Marker& guide = markers[jt.marker_i];
+        const Marker& slider = markers[jt.marker_j];
+        if (guide.body >= 0 || !rigid(slider.body)) continue;
+        const Vec2 n = Jm(Rotate(guide.angle, jt.axis));  // guide normal (world)
+        if (n.x() != 0.0 && n.y() != 0.0) continue;      // not along a world axis
+        s.kind = Kind::kGuided;
+        s.body = slider.body;
+        s.cross_slot = n.x() == 0.0 ? kY : kX;
+        s.angle = guide.angle + jt.relative_angle - slider.angle;
+        s.held = guide.position;
+        s.marker = slider.position;
+        s.slots = {s.cross_slot, kTheta};
+        s.rows = rows_of(jt);
+      } else {
+        continue;
+      }
+      if (used[s.body]) continue;
+      used[s.body] = true;
+      FLEXROD_ASSERT(s.slots.size() == s.rows.size());
+      for (int slot : s.slots) coordinates_.push_back(bodies[s.body].coordinate(slot));
+      sets_.push_back(std::move(s));
+    }
+  }
+  // Dropped unknowns: p_c, v_c, μ_k; dropped rows: F1_c, F3_k, F4_k.
+  const int np = model.num_coordinates();
+  std::vector<bool> drop_unknown(full_size_, false), drop_row(full_size_, false);
+  for (const Set& s : sets_) {
+    for (int slot : s.slots) {
+      const int c = bodies[s.body].coordinate(slot);
+      drop_unknown[c] = drop_unknown[np + c] = true;
+      drop_row[c] = true;
+    }
+    for (int k : s.rows) {
+      drop_unknown[model.mu_offset() + k] = true;
+      drop_row[model.lambda_offset() + k] = drop_row[model.mu_offset() + k] = true;
+    }
+  }
+  row_to_reduced_.assign(full_size_, -1);
+  for (int i = 0; i < full_size_; ++i) {
+    if (!drop_unknown[i]) kept_unknowns_.push_back(i);
+    if (!drop_row[i]) {
+      row_to_reduced_[i] = static_cast<int>(kept_rows_.size());
+      kept_rows_.push_back(i);
+    }
+  }
+  FLEXROD_ASSERT(kept_rows_.size() == kept_unknowns_.size());
+}
+
+void PrescribedMotion::Motion(const Set& s, double t, double* p, double* v, double* a) const {
+  switch (s.kind) {
+    case Kind::kHeld:
+      p[0] = s.held.x();
+      p[1] = s.held.y();
+      p[2] = s.angle;
+      for (int k = 0; k < 3; ++k) v[k] = a[k] = 0.0;
+      return;
+    case Kind::kDriven: {
+      // r_marker = R + A(θ) ū = P: R = P − Aū, Ṙ = −θ̇ J A ū, R̈ = −θ̈ J A ū + θ̇² A ū.
+      const Driver& d = model_.drivers()[s.driver];
+      const double th = d.PrescribedAngle(t), w = d.PrescribedSpeed(t),
+                   al = d.PrescribedAcceleration(segment_start_);
+      const Vec2 Au = Rotate(th, s.marker);
+      const Vec2 R = s.pivot - Au, Rd = -w * Jm(Au), Rdd = -al * Jm(Au) + (w * w) * Au;
+      p[0] = R.x(), p[1] = R.y(), p[2] = th;
+      v[0] = Rd.x(), v[1] = Rd.y(), v[2] = w;
+      a[0] = Rdd.x(), a[1] = Rdd.y(), a[2] = al;
+      return;
+    }
+    case Kind::kGuided: {
+      // n·(R + A ū − r_guide) = 0 with n along the held world axis; θ held.
+      const Vec2 Au = Rotate(s.angle, s.marker);
+      const int axis = s.cross_slot == kX ? 0 : 1;
+      p[0] = s.held(axis) - Au(axis);
+      p[1] = s.angle;
+      v[0] = v[1] = a[0] = a[1] = 0.0;
+      return;
+    }
+  }
+}
+
+void PrescribedMotion::Expand(double t, const double* y, const double* yp, double* y_full,
+                              double* yp_full) const {
+  const int n = size();
+  for (int i = 0; i < n; ++i) {
+    y_full[kept_unknowns_[i]] = y[i];
+    yp_full[kept_unknowns_[i]] = yp[i];
+  }
+  const int np = model_.num_coordinates();
+  double p[3], v[3], a[3];
+  for (const Set& s : sets_) {
+    Motion(s, t, p, v, a);
+    const Body& b = model_.bodies()[s.body];
+    for (size_t k = 0; k < s.slots.size(); ++k) {
+      const int c = b.coordinate(s.slots[k]);
+      y_full[c] = p[k];
+      y_full[np + c] = v[k];
+      yp_full[c] = v[k];
+      yp_full[np + c] = a[k];
+    }
+    for (int k : s.rows) y_full[model_.mu_offset() + k] = yp_full[model_.mu_offset() + k] = 0.0;
+  }
+}
+
+void PrescribedMotion::Reduce(const double* full, double* reduced) const {
+  const int n = size();
+  for (int i = 0; i < n; ++i) reduced[i] = full[kept_unknowns_[i]];
+}
+
+void PrescribedMotion::AddReducedMatrix(const double* full, double* reduced) const {
+  const int n = size();
+  const size_t N = static_cast<size_t>(full_size_);
+  for (int c = 0; c < n; ++c) {
+    const double* col = full + static_cast<size_t>(kept_unknowns_[c]) * N;
+    double* out = reduced + static_cast<size_t>(c) * n;
+    for (int r = 0; r < n; ++r) out[r] += col[kept_rows_[r]];
+  }
+}
+
+SparsityPattern PrescribedMotion::ReducePattern(const SparsityPattern& full) const {
+  FLEXROD_ASSERT(full.size == full_size_);
+  SparsityPattern out;
+  out.size = size();
+  out.col_ptr.push_back(0);
+  for (int c : kept_unknowns_) {
+    for (int64_t k = full.col_ptr[c]; k < full.col_ptr[c + 1]; ++k) {
+      const int r = row_to_reduced_[full.row_index[k]];
+      if (r >= 0) out.row_index.push_back(r);
+    }
+    out.col_ptr.push_back(out.nnz());
+  }
+  return out;
+}
+
+}  // namespace flexrod::multibody
