@@ -46,8 +46,11 @@ inline Vec2 JTm(const Vec2& a) { return Vec2(a.y(), -a.x()); }  // Jᵀ a
 // ---- body level -------------------------------------------------------------------------------
 void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s) {
   const double th = pb[kTheta];
-  s->cos_theta = std::cos(th);
-  s->sin_theta = std::sin(th);
+  if (th != s->trig_theta) {  // a held or prescribed angle repeats: skip the trigonometry
+    s->cos_theta = std::cos(th);
+    s->sin_theta = std::sin(th);
+    s->trig_theta = th;
+  }
   s->A << s->cos_theta, -s->sin_theta, s->sin_theta, s->cos_theta;
   s->s = b.S0;
   s->axial = 0.0;

@@ -67,9 +67,10 @@ PrescribedMotion::PrescribedMotion(const Mechanism& model, bool enabled)
         s.kind = Kind::kGuided;
         s.body = slider.body;
         s.cross_slot = n.x() == 0.0 ? kY : kX;
+        // n·(R + A ū − r_guide) = 0 with n along the held world axis; θ held.
         s.angle = guide.angle + jt.relative_angle - slider.angle;
-        s.held = guide.position;
-        s.marker = slider.position;
+        const int axis = s.cross_slot == kX ? 0 : 1;
+        s.held(0) = guide.position(axis) - Rotate(s.angle, slider.position)(axis);
         s.slots = {s.cross_slot, kTheta};
         s.rows = rows_of(jt);
       } else {
@@ -120,22 +121,18 @@ void PrescribedMotion::Motion(const Set& s, double t, double* p, double* v, doub
       const Driver& d = model_.drivers()[s.driver];
       const double th = d.PrescribedAngle(t), w = d.PrescribedSpeed(t),
                    al = d.PrescribedAcceleration(segment_start_);
-      const Vec2 Au = Rotate(th, s.marker);
+      const Vec2 Au = s.marker.isZero() ? Vec2::Zero() : Vec2(Rotate(th, s.marker));  // pivot at the frame origin: R = P
       const Vec2 R = s.pivot - Au, Rd = -w * Jm(Au), Rdd = -al * Jm(Au) + (w * w) * Au;
       p[0] = R.x(), p[1] = R.y(), p[2] = th;
       v[0] = Rd.x(), v[1] = Rd.y(), v[2] = w;
       a[0] = Rdd.x(), a[1] = Rdd.y(), a[2] = al;
       return;
     }
-    case Kind::kGuided: {
-      // n·(R + A ū − r_guide) = 0 with n along the held world axis; θ held.
-      const Vec2 Au = Rotate(s.angle, s.marker);
-      const int axis = s.cross_slot == kX ? 0 : 1;
-      p[0] = s.held(axis) - Au(axis);
+    case Kind::kGuided:
+      p[0] = s.held(0);
       p[1] = s.angle;
       v[0] = v[1] = a[0] = a[1] = 0.0;
       return;
-    }
   }
 }
 

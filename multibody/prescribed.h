@@ -65,8 +65,8 @@ class PrescribedMotion {
     int body{-1};
     int driver{-1};          ///< kDriven
     Vec2 pivot{0.0, 0.0};    ///< kDriven: ground point P [m]
-    Vec2 marker{0.0, 0.0};   ///< kDriven, kGuided: ū of the body's marker [m]
-    Vec2 held{0.0, 0.0};     ///< kHeld: (x, y) [m]; kGuided: the ground marker's position [m]
+    Vec2 marker{0.0, 0.0};   ///< kDriven: ū of the body's pivot marker [m]
+    Vec2 held{0.0, 0.0};     ///< kHeld: (x, y) [m]; kGuided: (cross-guide coordinate, −) [m]
     double angle{0.0};       ///< kHeld, kGuided: θ held [rad]
     int cross_slot{kY};      ///< kGuided: kX or kY, the frame coordinate held
     std::vector<int> slots;  ///< body slots prescribed (kX, kY, kTheta)

@@ -18,6 +18,7 @@ namespace flexrod::multibody {
 /// Per-body quantities at the current configuration (refreshed by every evaluation).
 struct BodyScratch {
   double cos_theta{1.0}, sin_theta{0.0};
+  double trig_theta{0.0};  ///< θ that cos_theta, sin_theta belong to (reused when θ repeats)
   Mat2 A;          ///< A(θ)
   Vec2 s;          ///< S̄₀ + S̄ q [kg m]
   Vec w;           ///< I₁ + M_ff q (n) [kg m]
