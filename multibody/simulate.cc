@@ -559,6 +559,7 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
 
   // IDA integrates the kept unknowns (size n); everything else sees the full layout (size N).
   const int n = prescribed.size();
+  status.unknowns = n;
   Vec yr(n), ypr(n);                    // reduced state / dense output
   Vec ybuf = state.y, ypbuf = state.yp;  // full dense-output buffers
   Vec yev(N), ypev(N);                  // full event/restart state

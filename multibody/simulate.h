@@ -210,6 +210,7 @@ struct SimulationStatus {
   double worst_weighted_error{0.0};
   long num_samples{0};
   long root_stall_restarts{0};    ///< re-initialisations past a root function stuck at zero
+  int unknowns{0};                ///< unknowns IDA integrated (model.size() less the prescribed)
   std::vector<IndexCrossing> index_crossings;
   IntegratorStats stats;
   LinearSolverKind linear_solver{LinearSolverKind::kDense};

@@ -139,6 +139,9 @@ const std::vector<ParamDef>& Schema() {
       {"sim.abs_tol", K::kQuantity, D::kDimensionless, "1e-8", "integrator absolute tolerance"},
       {"sim.max_step", K::kQuantity, D::kTime, "0", "integrator step limit [s]; 0 = none"},
       {"sim.linear_solver", K::kChoice, D::kDimensionless, "auto", "linear solver", {"auto", "dense", "klu"}},
+      {"sim.eliminate_prescribed", K::kBool, D::kDimensionless, "true",
+       "integrate without the coordinates that ground-side constraints prescribe (driven crank, "
+       "guided slider); false integrates the full DAE: the same solution, slower (for checks)"},
       {"output.gauges", K::kText, D::kDimensionless, "0.02,0.14,0.26",
        "strain gauge positions along the rod from the big-end clamp [m], comma-separated"},
       {"output.midspan", K::kQuantity, D::kLength, "0",

@@ -232,6 +232,7 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
   o.integrator.linear_solver = ls == "dense"  ? multibody::LinearSolverKind::kDense
                                : ls == "klu" ? multibody::LinearSolverKind::kKlu
                                              : multibody::LinearSolverKind::kAuto;
+  o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
   o.integrator.Validate();
   return o;
 }
@@ -250,6 +251,7 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st) {
           {"roots_found", st.stats.roots_found},
           {"root_stall_restarts", st.root_stall_restarts},
           {"linear_solver", multibody::ToString(st.linear_solver)},
+          {"unknowns", st.unknowns},
           {"wall_time [s]", st.wall_seconds},
           {"residual_time [s]", st.stats.residual_seconds},
           {"jacobian_time [s]", st.stats.jacobian_seconds},

@@ -64,6 +64,50 @@ TEST(RigidRig, IdealJointWithSliderOffsetMatchesExactKinematics) {
   EXPECT_LT(MaxRelativeError(r.channels, k, w, "slider_acceleration"), 1e-6);
 }
 
+// sim.eliminate_prescribed: the ideal rig integrates 25 unknowns instead of 40 (the crank's x,
+// y, θ and the slider's y, θ dropped with their velocities and GGL multipliers μ;
+// multibody/prescribed.h) and the two runs agree. References: the full-DAE run at the same
+// tolerance (rel_tol 1e-10: slider acceleration, crank torque and bearing force to 1e-6 of their
+// peaks), and the slider's equation of motion along the guide, −F_bearing,x = m a + c v, which
+// both must satisfy (measured: 7e-9 and 1.1e-8 of the peak force). Guide Coulomb friction is off:
+// its 1 mm/s regularisation makes the reaction a steep ramp at each velocity reversal, where the
+// two runs differ by 3e-5 of the peak.
+TEST(RigidRig, EliminatingThePrescribedCoordinatesKeepsTheRun) {
+  auto run = [](const char* eliminate) {
+    return RunSimulation(Preset("rigid-rig", {"joint.type=ideal", "slider.friction=0 N", "sim.settle=0 s",
+                                              "sim.capture=0.2 s", "sim.sample_rate=10 kHz", "sim.rel_tol=1e-10",
+                                              "sim.abs_tol=1e-12", eliminate}));
+  };
+  const RunResult reduced = run("sim.eliminate_prescribed=true"), full = run("sim.eliminate_prescribed=false");
+  ASSERT_TRUE(reduced.ok() && full.ok());
+  EXPECT_EQ(full.summary["integrator"]["unknowns"].get<int>(), 40);  // 9 p, 9 v, 9 λ, 9 μ, 4 energies
+  EXPECT_EQ(reduced.summary["integrator"]["unknowns"].get<int>(), 25);
+  const Config preset = Preset("rigid-rig", {});
+  const double mass = preset.Quantity("slider.mass"), damping = preset.Quantity("slider.damping");
+  for (const RunResult* r : {&reduced, &full}) {
+    const auto& a = r->channels.values("slider_acceleration");
+    const auto& v = r->channels.values("slider_velocity");
+    const auto& fx = r->channels.values("bearing_force_x");  // on the rod's bush
+    double worst = 0.0, peak = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      worst = std::max(worst, std::abs(-fx[i] - (mass * a[i] + damping * v[i])));
+      peak = std::max(peak, std::abs(fx[i]));
+    }
+    EXPECT_LT(worst, 1e-7 * peak);
+  }
+  for (const char* ch : {"slider_acceleration", "crank_torque", "bearing_force"}) {
+    const auto& a = reduced.channels.values(ch);
+    const auto& b = full.channels.values(ch);
+    ASSERT_EQ(a.size(), b.size());
+    double diff = 0.0, peak = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      diff = std::max(diff, std::abs(a[i] - b[i]));
+      peak = std::max(peak, std::abs(b[i]));
+    }
+    EXPECT_LT(diff, 1e-6 * peak) << ch;
+  }
+}
+
 // The stiff-rod limit (10⁴ × E reproduces the rigid kinematics) is tested at the engine level
 // in tests/multibody/flexible_rod_test.cc on a coarse rod; on the rig's 40-element rod its MHz
 // modes make the run too slow for the unit suite.
