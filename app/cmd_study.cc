@@ -60,9 +60,12 @@ void WriteTables(const std::string& dir, const std::string& title, const std::ve
   std::fputs(md.str().c_str(), stdout);
 }
 
+/// Where each shared ideal twin's CSV was first written (the cases at one speed share one twin).
+using TwinCsvs = std::map<const study::TimeSeries*, std::string>;
+
 /// One case of a study: the rigid-rig preset with the given overrides, written to dir/<tag>.
 std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag,
-                                 const std::vector<std::string>& sets, TwinCache* twins) {
+                                 const std::vector<std::string>& sets, TwinCache* twins, TwinCsvs* twin_csvs) {
   Config cfg;
   cfg.LoadToml(FindPreset("rigid-rig")->toml, "rigid-rig");
   for (const std::string& s : sets) cfg.SetAssignment(s);
@@ -72,7 +75,10 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
   outputs.twins = twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
   const RunResult r = RunSimulation(cfg, nullptr, false, outputs);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  WriteRunFiles(opt.out_dir + "/" + tag, cfg, r);
+  const std::string dir = opt.out_dir + "/" + tag;
+  const auto shared = r.ideal ? twin_csvs->find(r.ideal.get()) : twin_csvs->end();
+  WriteRunFiles(dir, cfg, r, shared == twin_csvs->end() ? "" : shared->second);
+  if (r.ideal && shared == twin_csvs->end()) (*twin_csvs)[r.ideal.get()] = dir + "/ideal/channels.csv";
   if (!opt.no_plot) PlotRun(opt.out_dir + "/" + tag);  // slider acceleration against the ideal twin
   const auto& s = r.summary;
   auto get = [&](const char* a, const char* b) {
@@ -95,6 +101,7 @@ int RunStudy(const StudyOptions& opt) {
                                          "wall [s]"};
   std::vector<std::vector<std::string>> rows;
   TwinCache twins;
+  TwinCsvs twin_csvs;
   if (opt.name == "rigid-rig-laws") {
     for (const std::string& law : contact::NormalLawNames()) {
       for (const char* rpm : {"101", "177"}) {
@@ -103,7 +110,7 @@ int RunStudy(const StudyOptions& opt) {
         std::vector<std::string> row = {law, rpm};
         const auto res = RunCase(opt, tag, {"joint.type=clearance", "joint.clearance=1 mm", "joint.law=" + law,
                                             "drive.speed=" + std::string(rpm) + " rpm"},
-                                 &twins);
+                                 &twins, &twin_csvs);
         row.insert(row.end(), res.begin(), res.end());
         rows.push_back(row);
       }
@@ -119,7 +126,7 @@ int RunStudy(const StudyOptions& opt) {
         std::vector<std::string> row = {c, mu};
         const auto res = RunCase(opt, tag, {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
                                             std::string("joint.friction=") + mu},
-                                 &twins);
+                                 &twins, &twin_csvs);
         row.insert(row.end(), res.begin(), res.end());
         rows.push_back(row);
       }

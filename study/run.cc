@@ -616,7 +616,8 @@ Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params)
 
 }  // namespace
 
-void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run) {
+void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run,
+                   const std::string& shared_ideal_csv) {
   EnsureDirectory("--out", dir);
   const CsvSelection csv = ReadCsvSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
   const Config::DerivedNotes notes =
@@ -626,7 +627,17 @@ void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& r
   if (!run.impacts.empty()) study::WriteImpactCsv(run.impacts, dir + "/impacts.csv");
   if (run.ideal) {
     EnsureDirectory("--out", dir + "/ideal");
-    study::WriteCsv(SelectForCsv(*run.ideal, csv), dir + "/ideal/channels.csv");
+    const std::string path = dir + "/ideal/channels.csv";
+    if (shared_ideal_csv.empty()) {
+      study::WriteCsv(SelectForCsv(*run.ideal, csv), path);
+    } else {
+      namespace fs = std::filesystem;
+      std::error_code ec;
+      fs::remove(path, ec);
+      const fs::path target = fs::relative(fs::absolute(shared_ideal_csv), fs::absolute(dir + "/ideal"));
+      fs::create_symlink(target, path, ec);
+      if (ec) throw InputError("--out", path, "cannot link to " + shared_ideal_csv + ": " + ec.message());
+    }
   }
   WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
 }

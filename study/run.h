@@ -88,8 +88,11 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
                         bool ideal_joint = false, const RunOutputOptions& outputs = {});
 
 /// Writes resolved.toml, channels.csv, summary.json (and impacts.csv, ideal/channels.csv for
-/// clearance runs) into `dir`.
-/// Each file is written whole (temporary + rename). Returns the plot status message.
-void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run);
+/// clearance runs) into `dir`. Each file is written whole (temporary + rename). When
+/// `shared_ideal_csv` names an already written ideal/channels.csv of the same twin (runs of a
+/// study that share it), ideal/channels.csv becomes a relative symbolic link to it instead of a
+/// copy.
+void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run,
+                   const std::string& shared_ideal_csv = "");
 
 }  // namespace flexrod

@@ -134,6 +134,14 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
   EXPECT_EQ(rows, 1 + 6);  // header + clearance {0.5, 1.0} × friction {0.2, 0.4, 0.6}
   EXPECT_TRUE(fs::exists(out / "table.md"));
   EXPECT_TRUE(fs::exists(out / "c1.0mm-mu0.6" / "summary.json"));
+  // The six cases share one ideal twin: its CSV is written once, the others link to it.
+  const fs::path first = out / "c0.5mm-mu0.2" / "ideal" / "channels.csv";
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(first)));
+  for (const char* tag : {"c0.5mm-mu0.4", "c0.5mm-mu0.6", "c1.0mm-mu0.2", "c1.0mm-mu0.4", "c1.0mm-mu0.6"}) {
+    const fs::path p = out / tag / "ideal" / "channels.csv";
+    EXPECT_TRUE(fs::is_symlink(p)) << tag;
+    EXPECT_TRUE(fs::equivalent(p, first)) << tag;
+  }
   fs::remove_all(out);
   EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()), 2);
   EXPECT_FALSE(fs::exists(out));
