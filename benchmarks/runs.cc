@@ -67,9 +67,9 @@ int RunCase(const Case& c) {
   }
   std::printf("  outcome %s, simulated %.3f s, solver wall %.3f s (integration and sampling), real-time factor %.2f\n",
               flexrod::multibody::ToString(st.outcome), simulated, wall, simulated / wall);
-  std::printf("  steps %ld, residuals %ld, Jacobians %ld, roots/events %ld, error-test failures %ld, "
+  std::printf("  unknowns integrated %d, steps %ld, residuals %ld, Jacobians %ld, roots/events %ld, error-test failures %ld, "
               "convergence failures %ld, samples %zu\n",
-              st.stats.steps, st.stats.residual_evaluations, st.stats.jacobian_evaluations, st.stats.roots_found,
+              st.unknowns, st.stats.steps, st.stats.residual_evaluations, st.stats.jacobian_evaluations, st.stats.roots_found,
               st.stats.error_test_failures, st.stats.nonlinear_convergence_failures, r.channels.num_samples());
   std::printf("  time share of solver wall: residual %.1f %%, Jacobian %.1f %%, linear solve %.1f %%, output %.1f %%\n",
               100 * st.stats.residual_seconds / wall, 100 * st.stats.jacobian_seconds / wall,
