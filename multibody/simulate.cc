@@ -619,6 +619,7 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
     }
     output_seconds += Seconds(w0, Clock::now());
   };
+  double t_now = t0;  // time of the integrator's returned state (ida.y())
   auto fill_failure = [&](SimulationOutcome outcome, const std::string& message,
                           const std::string& hint, double t_fail) {
     status.outcome = outcome;
@@ -626,12 +627,12 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
     status.hint = hint;
     status.t_reached = t_fail;
     Vec y(N), yp(N);
-    expand_current(t_fail, &y, &yp);
+    expand_current(t_now, &y, &yp);  // the last state IDA returned
     status.norm_coordinates = y.head(np).norm();
     status.norm_velocities = y.segment(np, np).norm();
     status.norm_multipliers = y.segment(model.lambda_offset(), model.num_constraints()).norm();
     Vec r(N);
-    CalcResidual(model, data, t_fail, y.data(), yp.data(), r.data());
+    CalcResidual(model, data, t_now, y.data(), yp.data(), r.data());
     status.worst_residual_index = WorstIndex(r);
     if (status.worst_residual_index >= 0) {
       status.worst_residual = r(status.worst_residual_index);
@@ -655,7 +656,6 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   std::vector<int> roots_found(std::max(1, dae.num_roots()), 0);
   roots = roots_found.data();
   const int index_root = dae.index_root();
-  double t_now = t0;
   int stalls = 0;                    // consecutive kRootStall re-initialisations
   constexpr int kMaxRootStalls = 3;
 

@@ -202,7 +202,7 @@ struct SimulationStatus {
   double norm_coordinates{0.0};   ///< |p|₂ at t_reached
   double norm_velocities{0.0};    ///< |v|₂
   double norm_multipliers{0.0};   ///< |λ|₂
-  int worst_residual_index{-1};   ///< unknown with the largest |F_i| at t_reached
+  int worst_residual_index{-1};   ///< unknown with the largest |F_i| at the last returned state
   std::string worst_residual_variable;
   double worst_residual{0.0};
   int worst_error_index{-1};      ///< unknown with the largest weighted local error estimate
