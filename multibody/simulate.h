@@ -199,7 +199,7 @@ struct SimulationStatus {
   double t_reached{0.0};          ///< last time the integrator reached [s]
   std::string message;            ///< what went wrong (IDA flag and message)
   std::string hint;               ///< what to try
-  double norm_coordinates{0.0};   ///< |p|₂ at t_reached
+  double norm_coordinates{0.0};   ///< |p|₂ of the last state IDA returned
   double norm_velocities{0.0};    ///< |v|₂
   double norm_multipliers{0.0};   ///< |λ|₂
   int worst_residual_index{-1};   ///< unknown with the largest |F_i| at the last returned state

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <vector>
 
+#include "mb_test_util.h"
 #include "multibody/dae.h"
 #include "multibody/prescribed.h"
 #include "multibody/simulate.h"
@@ -106,6 +107,47 @@ TEST(PrescribedMotion, FindsTheDrivenCrankTheGuidedSliderAndTheHeldFrame) {
   const PrescribedMotion none(m, false);
   EXPECT_EQ(none.size(), m.size());
   EXPECT_EQ(none.num_prescribed_coordinates(), 0);
+}
+
+// What stays integrated: a crank turned by a DC motor (a force, not a constraint), a revolute to
+// the ground without a driver, a guide that does not run along a world axis, a guide whose
+// marker i is on a body, and a flexible body.
+TEST(PrescribedMotion, LeavesBodiesTheConstraintsDoNotFixAsFunctionsOfTime) {
+  MechanismBuilder b;
+  const BodyId motor_crank = b.AddRigidBody({"motor_crank", 0.5, 1e-3, Vec2(0.02, 0.0)});
+  const BodyId free_link = b.AddRigidBody({"free_link", 0.3, 1e-3, Vec2(0.1, 0.0)});
+  const BodyId slanted = b.AddRigidBody({"slanted", 0.4, 2e-4, Vec2::Zero()});
+  const BodyId carried = b.AddRigidBody({"carried", 0.4, 2e-4, Vec2::Zero()});
+  const MarkerId g1 = b.AddGroundMarker("g1", Vec2::Zero());
+  const MarkerId g2 = b.AddGroundMarker("g2", Vec2(1.0, 0.0));
+  const MarkerId g3 = b.AddGroundMarker("g3", Vec2(0.0, 1.0), 0.3);  // guide at 0.3 rad
+  b.AddRevolute("motor_pivot", g1, b.AddBodyMarker(motor_crank, "mc.O", Vec2::Zero()));
+  DcMotorSpec motor;
+  motor.stall_torque = 1.0;
+  motor.no_load_speed = 100.0;
+  b.AddDcMotorDriver("motor", motor_crank, motor);
+  b.AddRevolute("free_pivot", g2, b.AddBodyMarker(free_link, "fl.O", Vec2::Zero()));
+  PrismaticSpec slant;
+  slant.name = "slant";
+  slant.marker_i = g3;
+  slant.marker_j = b.AddBodyMarker(slanted, "s.J", Vec2::Zero());
+  b.AddPrismatic(slant);
+  PrismaticSpec on_body;
+  on_body.name = "on_body";
+  on_body.marker_i = b.AddBodyMarker(free_link, "fl.guide", Vec2(0.1, 0.0));
+  on_body.marker_j = b.AddBodyMarker(carried, "c.J", Vec2::Zero());
+  b.AddPrismatic(on_body);
+  FlexibleBodySpec fs;
+  fs.name = "flexible";
+  fs.rod = testing::MakeSyntheticRod(3, 12, 7u);
+  const BodyId flexible = b.AddFlexibleBody(fs);
+  b.AddRevolute("flexible_pivot", b.AddGroundMarker("g4", Vec2(2.0, 0.0)),
+                b.AddBodyMarker(flexible, "f.O", Vec2::Zero()));
+  b.AddConstantSpeedDriver("flexible_drive", flexible, 0.0, 10.0);
+  const Mechanism m = b.Build();
+  const PrescribedMotion pm(m, true);
+  EXPECT_EQ(pm.num_prescribed_coordinates(), 0);
+  EXPECT_EQ(pm.size(), m.size());
 }
 
 TEST(PrescribedMotion, ExpandRebuildsTheConsistentFullState) {
