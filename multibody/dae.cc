@@ -44,7 +44,10 @@ inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }   // J a
 inline Vec2 JTm(const Vec2& a) { return Vec2(a.y(), -a.x()); }  // Jᵀ a
 
 // ---- body level -------------------------------------------------------------------------------
-void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s) {
+// `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
+// refreshes them itself): output samples at 100 kHz need the kinematics and the energies only.
+void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s,
+                bool dynamics = true) {
   const double th = pb[kTheta];
   if (th != s->trig_theta) {  // a held or prescribed angle repeats: skip the trigonometry
     s->cos_theta = std::cos(th);
@@ -68,6 +71,7 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
     s->axial = b.axial_force.transpose().dot(q);
     s->Kq += s->axial * s->Kgq;
   }
+  if (!dynamics) return;
   s->Dqd.noalias() = b.D * qd;
   s->Sqd.noalias() = b.Stilde * qd;
 }
@@ -149,12 +153,13 @@ void UpdateMarker(const Mechanism& model, int mi, RunData* data, const double* p
   ms.conv_acc = -ms.Au * (thd * thd) + 2.0 * thd * Jm(ms.ASqd);  // a_v = A(−ūθ̇² + 2JS_uq̇θ̇)
 }
 
-void UpdateAll(const Mechanism& model, RunData* data, const double* p, const double* v) {
+void UpdateAll(const Mechanism& model, RunData* data, const double* p, const double* v,
+               bool dynamics = true) {
   FLEXROD_ASSERT(data->model == &model);
   const auto& bodies = model.bodies();
   for (size_t i = 0; i < bodies.size(); ++i) {
     const Body& b = bodies[i];
-    UpdateBody(b, p + b.coordinate_offset, v + b.coordinate_offset, &data->bodies[i]);
+    UpdateBody(b, p + b.coordinate_offset, v + b.coordinate_offset, &data->bodies[i], dynamics);
   }
   const int nm = static_cast<int>(model.markers().size());
   for (int i = 0; i < nm; ++i) UpdateMarker(model, i, data, p, v);
@@ -518,7 +523,7 @@ Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb) {
 }
 
 void UpdateKinematics(const Mechanism& model, RunData* data, const double* y) {
-  UpdateAll(model, data, y, y + model.num_coordinates());
+  UpdateAll(model, data, y, y + model.num_coordinates(), /*dynamics=*/false);
 }
 
 double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, const double* vb) {

@@ -44,8 +44,9 @@ double BodyKineticEnergy(const Body& body, const Vec& pb, const Vec& vb);
 Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb);
 
 // ---- kinematics -------------------------------------------------------------------------------
-/// Refreshes data->bodies (A, s, w, c, K q …) and data->markers (world kinematics, not the
-/// Jacobian pieces) at the coordinates/velocities of y. Every query in outputs.h reads them.
+/// Refreshes data->bodies (A, s, w, c, K q; not D q̇ and S̃ q̇, which only the residual and the
+/// Jacobian use and refresh themselves) and data->markers (world kinematics, not the Jacobian
+/// pieces) at the coordinates/velocities of y. Every query in outputs.h reads them.
 void UpdateKinematics(const Mechanism& model, RunData* data, const double* y);
 
 /// Kinetic energy ½ vᵀM v of one body [J] (after UpdateKinematics; pb, vb: its coordinates
