@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "multibody/prescribed.h"
 
-#include <cmath>
+#include <Eigen/Geometry>
 
 #include "common/error.h"
 
@@ -10,10 +10,7 @@ namespace flexrod::multibody {
 namespace {
 
 inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }  // J a
-inline Vec2 Rotate(double angle, const Vec2& a) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return Vec2(c * a.x() - s * a.y(), s * a.x() + c * a.y());
-}
+using Rotation = Eigen::Rotation2Dd;
 
 }  // namespace
 
@@ -62,15 +59,15 @@ PrescribedMotion::PrescribedMotion(const Mechanism& model, bool enabled)
         const Marker& guide = markers[jt.marker_i];
         const Marker& slider = markers[jt.marker_j];
         if (guide.body >= 0 || !rigid(slider.body)) continue;
-        const Vec2 n = Jm(Rotate(guide.angle, jt.axis));  // guide normal (world)
-        if (n.x() != 0.0 && n.y() != 0.0) continue;      // not along a world axis
+        const Vec2 u = Rotation(guide.angle) * jt.axis;  // guide direction (world)
+        if (u.x() != 0.0 && u.y() != 0.0) continue;       // not along a world axis
         s.kind = Kind::kGuided;
         s.body = slider.body;
-        s.cross_slot = n.x() == 0.0 ? kY : kX;
-        // n·(R + A ū − r_guide) = 0 with n along the held world axis; θ held.
+        s.cross_slot = u.y() == 0.0 ? kY : kX;
+        // n·(R + A ū − r_guide) = 0 with the normal n along the held world axis; θ held.
         s.angle = guide.angle + jt.relative_angle - slider.angle;
         const int axis = s.cross_slot == kX ? 0 : 1;
-        s.held(0) = guide.position(axis) - Rotate(s.angle, slider.position)(axis);
+        s.cross = guide.position(axis) - (Rotation(s.angle) * slider.position)(axis);
         s.slots = {s.cross_slot, kTheta};
         s.rows = rows_of(jt);
       } else {
@@ -79,7 +76,7 @@ PrescribedMotion::PrescribedMotion(const Mechanism& model, bool enabled)
       if (used[s.body]) continue;
       used[s.body] = true;
       FLEXROD_ASSERT(s.slots.size() == s.rows.size());
-      for (int slot : s.slots) coordinates_.push_back(bodies[s.body].coordinate(slot));
+      num_prescribed_ += static_cast<int>(s.slots.size());
       sets_.push_back(std::move(s));
     }
   }
@@ -121,7 +118,8 @@ void PrescribedMotion::Motion(const Set& s, double t, double* p, double* v, doub
       const Driver& d = model_.drivers()[s.driver];
       const double th = d.PrescribedAngle(t), w = d.PrescribedSpeed(t),
                    al = d.PrescribedAcceleration(segment_start_);
-      const Vec2 Au = s.marker.isZero() ? Vec2::Zero() : Vec2(Rotate(th, s.marker));  // pivot at the frame origin: R = P
+      // A pivot at the frame origin (ū = 0) needs no rotation: R = P.
+      const Vec2 Au = s.marker.isZero() ? Vec2::Zero() : Vec2(Rotation(th) * s.marker);
       const Vec2 R = s.pivot - Au, Rd = -w * Jm(Au), Rdd = -al * Jm(Au) + (w * w) * Au;
       p[0] = R.x(), p[1] = R.y(), p[2] = th;
       v[0] = Rd.x(), v[1] = Rd.y(), v[2] = w;
@@ -129,7 +127,7 @@ void PrescribedMotion::Motion(const Set& s, double t, double* p, double* v, doub
       return;
     }
     case Kind::kGuided:
-      p[0] = s.held(0);
+      p[0] = s.cross;
       p[1] = s.angle;
       v[0] = v[1] = a[0] = a[1] = 0.0;
       return;

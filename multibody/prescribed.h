@@ -36,7 +36,7 @@ class PrescribedMotion {
 
   int full_size() const { return full_size_; }
   int size() const { return static_cast<int>(kept_unknowns_.size()); }
-  int num_prescribed_coordinates() const { return static_cast<int>(coordinates_.size()); }
+  int num_prescribed_coordinates() const { return num_prescribed_; }
   /// Full index of each reduced unknown (ascending).
   const std::vector<int>& kept_unknowns() const { return kept_unknowns_; }
   /// Full residual row of each reduced row (ascending).
@@ -66,9 +66,10 @@ class PrescribedMotion {
     int driver{-1};          ///< kDriven
     Vec2 pivot{0.0, 0.0};    ///< kDriven: ground point P [m]
     Vec2 marker{0.0, 0.0};   ///< kDriven: ū of the body's pivot marker [m]
-    Vec2 held{0.0, 0.0};     ///< kHeld: (x, y) [m]; kGuided: (cross-guide coordinate, −) [m]
+    Vec2 held{0.0, 0.0};     ///< kHeld: (x, y) [m]
     double angle{0.0};       ///< kHeld, kGuided: θ held [rad]
     int cross_slot{kY};      ///< kGuided: kX or kY, the frame coordinate held
+    double cross{0.0};       ///< kGuided: its value [m]
     std::vector<int> slots;  ///< body slots prescribed (kX, kY, kTheta)
     std::vector<int> rows;   ///< constraint rows (into λ and μ) that fix them
   };
@@ -78,7 +79,7 @@ class PrescribedMotion {
   const Mechanism& model_;
   int full_size_{0};
   std::vector<Set> sets_;
-  std::vector<int> coordinates_;   ///< prescribed coordinate indices in p, set by set
+  int num_prescribed_{0};          ///< prescribed coordinates, all sets
   std::vector<int> kept_unknowns_, kept_rows_;
   std::vector<int> row_to_reduced_;  ///< full row → reduced row, −1 if dropped
   double segment_start_{0.0};

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "mb_test_util.h"
 #include "multibody/dae.h"
 #include "multibody/prescribed.h"
@@ -23,9 +25,7 @@
 namespace flexrod::multibody {
 namespace {
 
-Vec2 Rotate(double a, const Vec2& u) {
-  return Vec2(std::cos(a) * u.x() - std::sin(a) * u.y(), std::sin(a) * u.x() + std::cos(a) * u.y());
-}
+Vec2 Rotate(double a, const Vec2& u) { return Eigen::Rotation2Dd(a) * u; }
 
 struct Rig {
   Mechanism model;
