@@ -279,7 +279,8 @@ void ClearanceJoint::Roots(double /*t*/, const MarkerKinematics& bush,
                            const MarkerKinematics& pin, const double* /*z*/,
                            const double* memory, double* g) const {
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
-  g[0] = k.penetration;
+  const bool on = memory[kContactFlag] > 0.5;
+  g[0] = on ? k.penetration + EventBand() : k.penetration - EventBand();
   if (history_law_) g[1] = memory[kContactFlag] > 0.5 ? k.penetration_rate : 1.0;
 }
 
@@ -287,7 +288,9 @@ bool ClearanceJoint::OnRoot(int index, int direction, double t, const MarkerKine
                             const MarkerKinematics& pin, const double* z, double* memory) const {
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
   if (index == 0) {
-    if (direction > 0) {  // onset
+    const bool on = memory[kContactFlag] > 0.5;
+    if (on == (direction > 0)) return false;  // g₀ back through its own side: no change of state
+    if (!on) {  // onset
       memory[kContactFlag] = 1.0;
       memory[kApproachVelocity] = std::max({k.penetration_rate, min_approach_velocity_, 0.0});
       memory[kMaxPenetration] = 0.0;
@@ -309,6 +312,8 @@ bool ClearanceJoint::OnRoot(int index, int direction, double t, const MarkerKine
   }
   return false;
 }
+
+double ClearanceJoint::EventBand() const { return 1e-6 * geometry_.clearance(); }
 
 FiniteDifferenceScales ClearanceJoint::fd_scales() const {
   FiniteDifferenceScales s;

@@ -15,8 +15,20 @@
 // Q, moment about the centre) are exactly force-at-marker + moment-about-marker: moving a force
 // F from Q to the centre adds (Q − centre) × F, which is the ±R F_t of CalcContactLoads.
 //
-// Contact logic. Contact is "on" between a located onset (root δ = 0 crossed upwards) and a
-// located separation (δ = 0 crossed downwards); the flag lives in the run memory. While the
+// Contact logic. Contact is "on" between a located onset (root δ = +b crossed upwards) and a
+// located separation (δ = −b crossed downwards); the flag lives in the run memory. The event
+// band b = 1e-6·clearance (EventBand; 0.5 nm at 0.5 mm) is a hysteresis on the root function,
+// g₀ = δ − b with the flag off and δ + b with it on, so a root just found cannot be found again
+// from round-off. Without it (g₀ = δ) a restart at an onset left g₀ at ±1e-16 m of either sign
+// (the round-off of δ = |r_P − r_B| − c at |r| ≈ 0.3 m), IDA reported a "separation" at the
+// same instant while the pin still approached, and the alternation could end with the flag off
+// and δ growing without force: the pin went through the bush (every normal law with LuGre
+// friction on both rigs; the restart at separation is what LuGre's state adds). A band of
+// 1e-9·clearance stopped the round-off but not the Kelvin–Voigt micro-bounces at onset (its
+// damping force d·δ̇ acts at δ = 0): the pin left by 2b within the first step a thousand times
+// over. 1e-6·clearance leaves one such bounce. It is far below loaded penetrations (µm): the
+// force at δ = b is 5e-2 N for a linear 1e8 N/m contact, and the energy skipped is (b/δ_max)²
+// of an impact's. The force needs δ > 0 as well, so it is zero inside the band. While the
 // flag is off the force is exactly zero even if δ > 0 inside the step that overshoots the onset,
 // so every integrator step sees one smooth law. At onset OnRoot stores the approach velocity
 // v₀ = max(δ̇, law floor), resets the law states and asks for a restart. Differential states are
@@ -119,14 +131,17 @@ class ClearanceJoint final : public ForceElement {
   /// g[0] = δ [m]; g[1] = δ̇ [m/s] while in contact, 1 otherwise (elasto-plastic only).
   void Roots(double t, const MarkerKinematics& bush, const MarkerKinematics& pin, const double* z,
              const double* memory, double* g) const override;
-  /// Root 0 upwards: onset (flag on, v₀, state reset, count) → restart. Root 0 downwards:
-  /// separation (flag off) → restart if the joint has states (their rates switch law).
+  /// Root 0 upwards with the flag off: onset (flag on, v₀, state reset, count) → restart. Root 0
+  /// downwards with the flag on: separation (flag off) → restart if the joint has states (their
+  /// rates switch law). Root 0 in the other direction changes nothing.
   /// Root 1 downwards in contact: maximum penetration, history update → restart.
   bool OnRoot(int index, int direction, double t, const MarkerKinematics& bush,
               const MarkerKinematics& pin, const double* z, double* memory) const override;
   /// length = 1e-3·clearance; speed = min(1e-3 m/s, the friction law's regularisation velocity);
   /// angular speed = speed / R_bush.
   FiniteDifferenceScales fd_scales() const override;
+  /// Hysteresis of the contact root function, b = 1e-6·clearance [m] (see the file comment).
+  double EventBand() const;
   bool relative_kinematics() const override { return true; }
   /// Normal-law state x_d: 1e-2·clearance [m]; LuGre z: μ_s/σ̂₀ [m].
   double StateScale(int k) const override;

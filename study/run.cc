@@ -310,6 +310,18 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
     const std::string precision = fem::MeshPrecisionWarning(mm.rod->rod, mm.rod->reduction.method);
     if (!precision.empty()) s["warnings"].push_back(precision);
   }
+  if (mm.clearance.index >= 0) {
+    // Loaded contacts penetrate by micrometres; a tenth of the clearance means the law is far
+    // too soft for the load, or the pin went through the bush.
+    const double c = cfg.Quantity("joint.clearance");
+    double deepest = 0.0;
+    for (double d : ts.values("penetration")) deepest = std::max(deepest, d);
+    if (deepest > 0.1 * c) {
+      s["warnings"].push_back("the pin penetrated the bush by " + FormatValue(deepest) + " m, " +
+                              std::to_string(std::lround(100.0 * deepest / c)) +
+                              " % of joint.clearance: the contact law is too soft for the load");
+    }
+  }
   const auto& eb = ts.values("energy_balance_error");
   const auto& ek = ts.values("energy_kinetic");
   double worst = 0.0, scale = 0.0;

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -254,7 +255,7 @@ TEST(ClearanceElement, OnsetRecordsTheFlooredApproachVelocityAndResetsTheStates)
   const std::array<double, 2> z{3e-7, -2e-6};  // states left over from an earlier contact
   double g = 0.0;
   joint.Roots(0.0, bush, pin, z.data(), mem.data(), &g);
-  EXPECT_NEAR(g, 0.0, 1e-18);
+  EXPECT_NEAR(g, -joint.EventBand(), 1e-18);  // flag off: g₀ = δ − b
   EXPECT_TRUE(joint.OnRoot(0, +1, 0.125, bush, pin, z.data(), mem.data()));
   EXPECT_EQ(mem.m[kContactFlag], 1.0);
   EXPECT_DOUBLE_EQ(mem.m[kApproachVelocity], 0.25);
@@ -267,7 +268,18 @@ TEST(ClearanceElement, OnsetRecordsTheFlooredApproachVelocityAndResetsTheStates)
   const ClearanceResponse r = joint.CalcResponse(bush, in, z.data(), mem.data());
   const auto& law = std::get<contact::MaxwellLaw>(joint.normal_law());
   EXPECT_NEAR(r.normal_force, law.stiffness * 1e-6, 1e-9 * law.stiffness * 1e-6);
+  // With the flag on, g₀ = δ + b: at the onset point it is 2b, far from δ's round-off.
+  joint.Roots(0.0, bush, pin, z.data(), mem.data(), &g);
+  EXPECT_NEAR(g, joint.EventBand(), 1e-18);
+  EXPECT_GT(joint.EventBand(), 1e3 * 0.35 * std::numeric_limits<double>::epsilon());
+  // A root in the flag's own direction (round-off chatter) changes nothing and asks no restart.
+  EXPECT_FALSE(joint.OnRoot(0, +1, 0.13, bush, pin, z.data(), mem.data()));
+  EXPECT_EQ(mem.m[kContactFlag], 1.0);
+  EXPECT_EQ(mem.m[kOnsetCount], 1.0);
+  EXPECT_EQ(mem.m[kOnsetTime], 0.125);
   EXPECT_TRUE(joint.OnRoot(0, -1, 0.2, bush, pin, z.data(), mem.data()));  // has states
+  EXPECT_EQ(mem.m[kContactFlag], 0.0);
+  EXPECT_FALSE(joint.OnRoot(0, -1, 0.21, bush, pin, z.data(), mem.data()));  // already off
   EXPECT_EQ(mem.m[kContactFlag], 0.0);
 
   // A hysteresis law floors a grazing approach at its minimum approach velocity.

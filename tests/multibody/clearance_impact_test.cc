@@ -75,7 +75,8 @@ TEST_P(ClearanceImpact, EngineReproducesTheSingleImpactOfTheContactLayer) {
   const ElementSlot& slot = p.model.element(p.joint);
   const double* memory = data.element_memory.data() + slot.memory_offset;
   EXPECT_EQ(memory[kOnsetCount], 1.0);
-  EXPECT_NEAR(memory[kOnsetTime], t_onset, 1e-12);
+  // The onset is located where δ crosses the event band b upwards (ClearanceJoint::EventBand).
+  EXPECT_NEAR(memory[kOnsetTime], t_onset + p.element->EventBand() / speed, 1e-13);
   EXPECT_NEAR(memory[kApproachVelocity], speed, 1e-9);
 
   const double restitution = -v_end.dot(n) / speed;

@@ -218,5 +218,43 @@ TEST(RunRobustness, LooseToleranceRunsPastContactSeparations) {
   }
 }
 
+TEST(RunRobustness, LuGreFrictionKeepsThePinOutsideTheBushWall) {
+  // Flexible rig, 0.5 mm, LuGre joint friction. The joint restarts the integrator at every
+  // separation (the bristle state switches law), and the contact root δ sat at ±1e-16 m after
+  // each restart, so IDA reported onset, separation, onset, ... at one instant thousands of
+  // times. With Hertz the alternation ended with the flag off at t = 0.117 s and the pin went
+  // through the bush (centimetres of penetration, zero force); with Kelvin–Voigt IDA gave up at
+  // t = 0.0124 s. The event band of ClearanceJoint (a hysteresis on the root) fixed both.
+  for (const char* law : {"joint.law=hertz", "joint.law=kelvin-voigt"}) {
+    const RunResult r = RunSimulation(Preset(
+        "flexible-rig", {law, "joint.friction_law=lugre", "sim.settle=0 s", "sim.capture=0.15 s"}));
+    ASSERT_TRUE(r.ok()) << law << ": " << r.status.Summary();
+    const auto pen = r.channels.values("penetration");
+    const auto rate = r.channels.values("penetration_rate");
+    const auto fn = r.channels.values("contact_normal_force");
+    double deepest = 0.0;
+    long unloaded_inside = 0;  // going in, inside the wall, and no force (Kelvin–Voigt's force
+    for (size_t i = 0; i < pen.size(); ++i) {  // may clip to zero inside while coming out)
+      deepest = std::max(deepest, pen[i]);
+      if (pen[i] > 1e-9 && rate[i] >= 0.0 && fn[i] == 0.0) ++unloaded_inside;
+    }
+    EXPECT_LT(deepest, 2e-5) << law;  // micrometres, as with Coulomb friction
+    EXPECT_EQ(unloaded_inside, 0) << law;
+    EXPECT_GE(r.summary["impacts"]["count"].get<int>(), 2) << law;
+    EXPECT_FALSE(r.summary.contains("warnings")) << law << ": " << r.summary["warnings"].dump();
+    EXPECT_LT(r.status.stats.roots_found, 200) << law;  // no chatter
+  }
+}
+
+TEST(RunRobustness, APenetrationOfATenthOfTheClearanceIsWarnedAbout) {
+  // A linear spring of 1e3 N/m cannot carry the joint load within the clearance.
+  const RunResult r = RunSimulation(Preset(
+      "rigid-rig", {"joint.law=linear-spring", "joint.stiffness=1e3", "sim.settle=0 s", "sim.capture=0.1 s",
+                    "sim.sample_rate=10 kHz"}));
+  ASSERT_TRUE(r.ok()) << r.status.Summary();
+  ASSERT_TRUE(r.summary.contains("warnings"));
+  EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("% of joint.clearance"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace flexrod
