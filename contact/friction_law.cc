@@ -21,7 +21,7 @@ const std::vector<FrictionSpec>& Specs() {
       {"threlfall", {"friction-coefficient", "velocity-scale"}},
       {"stribeck",
        {"friction-coefficient", "static-coefficient", "stribeck-velocity", "stribeck-exponent",
-        "viscous-coefficient"}},
+        "viscous-coefficient", "regularisation-velocity"}},
       {"lugre",
        {"friction-coefficient", "static-coefficient", "stribeck-velocity", "bristle-stiffness",
         "bristle-damping", "viscous-coefficient"}},
@@ -106,9 +106,10 @@ FrictionForce Eval(const StribeckFrictionLaw& l, double v, double fn, double) {
   double mu, dmu;
   StribeckCurve(l.friction_coefficient, l.static_coefficient, l.stribeck_velocity,
                 l.stribeck_exponent, v, &mu, &dmu);
-  const double s = Sign(v);
-  return {-fn * mu * s - l.viscous_coefficient * v, -fn * dmu * s - l.viscous_coefficient, -mu * s,
-          0.0};
+  const double s = std::tanh(v / l.regularisation_velocity);
+  const double ds = (1.0 - s * s) / l.regularisation_velocity;
+  return {-fn * mu * s - l.viscous_coefficient * v, -fn * (dmu * s + mu * ds) - l.viscous_coefficient,
+          -mu * s, 0.0};
 }
 
 FrictionStateRate LuGreRate(const LuGreFrictionLaw& l, double v, double z) {
@@ -179,7 +180,9 @@ ResolvedFrictionLaw ResolveFrictionLaw(std::string_view name, const ParameterMap
       l.static_coefficient = mu_s;
       l.stribeck_velocity = r.Get("stribeck-velocity", l.stribeck_velocity, "m/s");
       l.stribeck_exponent = r.Get("stribeck-exponent", l.stribeck_exponent, "1");
-      l.viscous_coefficient = r.Get("viscous-coefficient", l.viscous_coefficient, "s/m");
+      l.viscous_coefficient = r.Get("viscous-coefficient", l.viscous_coefficient, "N*s/m");
+      l.regularisation_velocity =
+          r.Get("regularisation-velocity", l.regularisation_velocity, "m/s");
       law = l;
     } else {
       LuGreFrictionLaw l;
