@@ -292,7 +292,8 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
                                 {"rms", a.rms},
                                 {"revolutions", a.positive.num_revolutions},
                                 {"per_revolution_positive", {{"median", a.positive.median}, {"p95", a.positive.p95}, {"max", a.positive.max}}},
-                                {"per_revolution_negative", {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}}};
+                                {"per_revolution_negative", {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}},
+                                {"per_revolution_abs", {{"median", a.magnitude.median}, {"p95", a.magnitude.p95}, {"max", a.magnitude.max}}}};
   }
   if (mm.rod) {
     double peak_stress = 0.0;

@@ -302,8 +302,12 @@ SignalSummary CalcSignalSummary(std::span<const double> x, std::span<const doubl
   peaks_of(range, &s.peak_positive, &s.peak_negative);
   s.rms = Rms(x.subspan(range.begin, range.size()));
   const std::vector<SampleRange> revolutions = SplitRevolutions(crank_angle, index_angle, range);
-  std::vector<double> pos(revolutions.size()), neg(revolutions.size());
-  for (std::size_t k = 0; k < revolutions.size(); ++k) peaks_of(revolutions[k], &pos[k], &neg[k]);
+  std::vector<double> pos(revolutions.size()), neg(revolutions.size()), mag(revolutions.size());
+  for (std::size_t k = 0; k < revolutions.size(); ++k) {
+    peaks_of(revolutions[k], &pos[k], &neg[k]);
+    mag[k] = std::max(pos[k], neg[k]);
+  }
+  s.magnitude = StatisticsOf(&mag);
   s.positive = StatisticsOf(&pos);
   s.negative = StatisticsOf(&neg);
   return s;

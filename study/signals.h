@@ -174,6 +174,7 @@ struct SignalSummary {
   double rms{0.0};            ///< over the whole range [unit]
   PeakStatistics positive;    ///< of the per-revolution positive peaks
   PeakStatistics negative;    ///< of the per-revolution negative peaks (magnitudes)
+  PeakStatistics magnitude;   ///< of the per-revolution peaks of |x| (the larger of the two)
 };
 
 /// InputError if the spans differ in length or the range is bad.

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -128,12 +129,20 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
                     "--set sim.sample_rate=5kHz --out " + out.string()),
             0);
   std::ifstream in(out / "table.csv");
-  std::string line;
+  std::string line, header;
   int rows = 0;
-  while (std::getline(in, line)) ++rows;
+  while (std::getline(in, line)) {
+    if (rows++ == 0) header = line;
+  }
   EXPECT_EQ(rows, 1 + 6);  // header + clearance {0.5, 1.0} × friction {0.2, 0.4, 0.6}
+  EXPECT_NE(header.find("median per-rev. peak abs slider acc. [m/s^2]"), std::string::npos) << header;
   EXPECT_TRUE(fs::exists(out / "table.md"));
   EXPECT_TRUE(fs::exists(out / "c1.0mm-mu0.6" / "summary.json"));
+  // Study cases run at the study's tolerances (app/cmd_study.cc, kStudyTolerances).
+  std::ifstream resolved(out / "c1.0mm-mu0.6" / "resolved.toml");
+  const std::string text((std::istreambuf_iterator<char>(resolved)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("rel_tol = 1e-08"), std::string::npos);
+  EXPECT_NE(text.find("abs_tol = 1e-10"), std::string::npos);
   // The six cases share one ideal twin: its CSV is written once, the others link to it.
   const fs::path first = out / "c0.5mm-mu0.2" / "ideal" / "channels.csv";
   EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(first)));

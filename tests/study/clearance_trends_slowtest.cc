@@ -37,18 +37,6 @@ struct TrendPoint {
   std::size_t revolutions{0};
 };
 
-std::vector<double> PerRevolutionPeaks(const study::TimeSeries& ts) {
-  const auto a = ts.values("slider_acceleration");
-  std::vector<double> peaks;
-  for (const study::SampleRange& rev :
-       study::SplitRevolutions(ts.values("crank_angle"), 0.0, ts.all())) {
-    double p = 0.0;
-    for (std::size_t i = rev.begin; i < rev.end; ++i) p = std::max(p, std::abs(a[i]));
-    peaks.push_back(p);
-  }
-  return peaks;
-}
-
 TrendPoint RunPoint(const std::string& rpm, const std::string& clearance, const std::string& mu) {
   Config cfg;
   cfg.LoadToml(FindPreset("rigid-rig")->toml, "rigid-rig");
@@ -69,11 +57,13 @@ TrendPoint RunPoint(const std::string& rpm, const std::string& clearance, const 
   TrendPoint p;
   p.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_TRUE(run.ok()) << run.status.Summary();
-  const std::vector<double> peaks = PerRevolutionPeaks(run.channels);
-  p.revolutions = peaks.size();
-  if (peaks.empty()) return p;
-  p.median_peak = study::Percentile(peaks, 50.0);
-  p.max_peak = *std::max_element(peaks.begin(), peaks.end());
+  const study::PeakStatistics peaks =
+      study::CalcSignalSummary(run.channels, "slider_acceleration", "crank_angle", 0.0, run.channels.all())
+          .magnitude;  // per-revolution peaks of |a|
+  p.revolutions = peaks.num_revolutions;
+  if (p.revolutions == 0) return p;
+  p.median_peak = peaks.median;
+  p.max_peak = peaks.max;
   if (run.ideal) {
     for (double v : run.ideal->values("slider_acceleration")) p.ideal_peak = std::max(p.ideal_peak, std::abs(v));
   }
@@ -89,7 +79,7 @@ TrendPoint RunPoint(const std::string& rpm, const std::string& clearance, const 
       EXPECT_GT(im.duration, 0.0);
     }
   }
-  p.impacts_per_rev = static_cast<double>(st.count) / static_cast<double>(peaks.size());
+  p.impacts_per_rev = static_cast<double>(st.count) / static_cast<double>(p.revolutions);
   return p;
 }
 

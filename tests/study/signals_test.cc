@@ -474,6 +474,14 @@ TEST(SignalSummary, PerRevolutionPeaksIgnorePartialRevolutions) {
   EXPECT_DOUBLE_EQ(s.negative.median, 3.0);  // magnitudes 1 2 3 4 5
   EXPECT_DOUBLE_EQ(s.negative.p95, 4.8);
   EXPECT_DOUBLE_EQ(s.negative.max, 5.0);
+  EXPECT_DOUBLE_EQ(s.magnitude.median, 30.0);  // every revolution's larger peak is its positive one
+  // A revolution whose negative peak is the larger: |x| peaks 10 60 20 50 40.
+  std::vector<double> y = x;
+  y[31 + 100 + 50] = -60.0;
+  const SignalSummary m = CalcSignalSummary(y, theta, 0.0, {0, 560});
+  EXPECT_DOUBLE_EQ(m.magnitude.median, 40.0);
+  EXPECT_DOUBLE_EQ(m.magnitude.max, 60.0);
+  EXPECT_DOUBLE_EQ(m.positive.median, 30.0);
   double sum_sq = 0.0;
   for (double v : x) sum_sq += v * v;
   EXPECT_NEAR(s.rms, std::sqrt(sum_sq / 560.0), 1e-12);
