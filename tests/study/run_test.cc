@@ -150,6 +150,7 @@ TEST(RunInput, BadInputNamesKeyValueAndRule) {
   expect_error({"crank.length=400 mm"}, "rod.length");  // rod shorter than the crank throw
   expect_error({"slider.mass=0"}, "slider.mass");
   expect_error({"drive.speed=-5 rpm"}, "drive.speed");
+  expect_error({"rod.type=rigid", "sim.start=steady"}, "sim.start");  // no elastic state to settle
   EXPECT_THROW(Preset("flexible-rig", {"rod.colour=red"}), InputError);
   EXPECT_THROW(Preset("flexible-rig", {"rod.height=tall"}), InputError);
   EXPECT_THROW(Preset("flexible-rig", {"drive.speed=3 kg"}), InputError);
@@ -243,6 +244,21 @@ TEST(RunRobustness, LuGreFrictionKeepsThePinOutsideTheBushWall) {
     EXPECT_GE(r.summary["impacts"]["count"].get<int>(), 2) << law;
     EXPECT_FALSE(r.summary.contains("warnings")) << law << ": " << r.summary["warnings"].dump();
     EXPECT_LT(r.status.stats.roots_found, 200) << law;  // no chatter
+  }
+}
+
+TEST(RunRobustness, AnEnergyBalanceErrorAboveOnePercentIsWarnedAbout) {
+  // Rigid rig: 2.3 % of the peak kinetic energy at rel_tol 3e-2 (warned), 2e-5 at 1e-6 (not).
+  for (const char* tol : {"sim.rel_tol=3e-2", "sim.rel_tol=1e-6"}) {
+    const RunResult r = RunSimulation(Preset(
+        "rigid-rig", {tol, "sim.settle=0 s", "sim.capture=0.3 s", "sim.sample_rate=10 kHz"}));
+    ASSERT_TRUE(r.ok()) << r.status.Summary();
+    const bool loose = std::string(tol) == "sim.rel_tol=3e-2";
+    EXPECT_EQ(r.summary["energy"]["relative_balance_error"].get<double>() > 1e-2, loose) << tol;
+    ASSERT_EQ(r.summary.contains("warnings"), loose) << tol;
+    if (loose) {
+      EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("tighten sim.rel_tol"), std::string::npos);
+    }
   }
 }
 
