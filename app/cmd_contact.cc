@@ -203,10 +203,17 @@ int RunContact(const ContactOptions& opt) {
   std::printf("%-22s %.8g s\n", "contact duration", r.contact_duration);
   std::printf("%-22s %.8g J\n", "dissipated energy", r.dissipated_energy);
   std::printf("resolved parameters:\n");
+  std::string warning;
   for (const auto& p : resolved.parameters) {
     std::printf("  %-30s %.10g %s (%s)\n", p.name.c_str(), p.value, p.unit.c_str(),
                 p.source.c_str());
+    if (p.name == "min-approach-velocity" && velocity < p.value) {
+      warning = "the approach velocity " + FormatValue(velocity) + " m/s is below min-approach-velocity = " +
+                FormatValue(p.value) + " m/s: the hysteresis damping uses the floor, so the achieved restitution "
+                "is above the one this law gives at its own speed; lower --min-approach-velocity to remove it";
+    }
   }
+  if (!warning.empty()) std::fprintf(stderr, "flexrod: warning: %s\n", warning.c_str());
 
   if (!opt.json_file.empty()) {
     nlohmann::json j;
@@ -235,6 +242,7 @@ int RunContact(const ContactOptions& opt) {
           {{"name", p.name}, {"value", Number(p.value)}, {"unit", p.unit}, {"source", p.source}});
     }
     j["parameters"] = params;
+    if (!warning.empty()) j["warnings"] = {warning};
     WriteFileAtomic(opt.json_file, j.dump(2) + "\n");
   }
   if (!opt.plot_file.empty()) {

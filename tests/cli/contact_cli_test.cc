@@ -73,6 +73,33 @@ TEST(ContactCli, JsonHasTheResultKeysAndTheResolvedParameters) {
   EXPECT_NEAR(j["inputs"]["velocity"]["value"].get<double>(), 0.5, 1e-15);
 }
 
+TEST(ContactCli, AnApproachBelowTheDampingFloorIsWarnedAbout) {
+  // Hysteresis damping ∝ 1/v₀ uses max(v₀, min-approach-velocity = 1e-3 m/s): at 1e-4 m/s the
+  // floor decides the restitution (Flores, input 0.5: 0.90) unless the user lowers it, and then
+  // the achieved restitution is the speed-independent one of 0.5 m/s.
+  auto achieved = [](const std::string& extra, bool* warned) {
+    const fs::path json = TempPath("floor.json");
+    const RunResult run = RunFlexrod("contact --law flores --restitution 0.5 --mass \"2.71 kg\" " + extra +
+                                     " --json " + json.string());
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    std::ifstream in(json);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    fs::remove(json);
+    *warned = j.contains("warnings");
+    EXPECT_EQ(*warned, run.output.find("min-approach-velocity = 0.001 m/s") != std::string::npos) << run.output;
+    return j["achieved_restitution"].get<double>();
+  };
+  bool warned = false;
+  const double reference = achieved("--velocity \"0.5 m/s\"", &warned);
+  EXPECT_FALSE(warned);
+  const double floored = achieved("--velocity \"1e-4 m/s\"", &warned);
+  EXPECT_TRUE(warned);
+  EXPECT_GT(floored, reference + 0.3);
+  const double lowered = achieved("--velocity \"1e-4 m/s\" --min-approach-velocity \"1e-5 m/s\"", &warned);
+  EXPECT_FALSE(warned);
+  EXPECT_NEAR(lowered, reference, 1e-5);
+}
+
 TEST(ContactCli, UnknownLawExitsWithCode2AndWritesNothing) {
   const fs::path json = TempPath("unknown.json");
   const fs::path png = TempPath("unknown.png");
