@@ -50,6 +50,11 @@ std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
     knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
   }
   if (knots.size() < 2) throw InputError("drive.profile", text, "needs at least two time:speed pairs");
+  for (size_t k = 1; k < knots.size(); ++k) {
+    if (!(knots[k].first > knots[k - 1].first)) {
+      throw InputError("drive.profile", text, "the times must be strictly increasing");
+    }
+  }
   return knots;
 }
 
@@ -170,7 +175,10 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   ps.axis = Vec2(1.0, 0.0);
   ps.damping = cfg.Quantity("slider.damping");
   ps.friction_force = cfg.Quantity("slider.friction");
+  RequireNonNegative("slider.damping", ps.damping);
+  RequireNonNegative("slider.friction", ps.friction_force);
   ps.friction_regularisation_speed = cfg.Quantity("slider.friction_velocity");
+  RequirePositive("slider.friction_velocity", ps.friction_regularisation_speed);
   out.guide_joint = b.AddPrismatic(ps);
 
   if (ideal_joint || cfg.Text("joint.type") == "ideal") {
@@ -204,6 +212,7 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     m.stall_torque = cfg.Quantity("motor.stall_torque");
     m.no_load_speed = cfg.Quantity("motor.no_load_speed");
     m.ratio = cfg.Quantity("motor.belt_ratio");
+    RequirePositive("motor.belt_ratio", m.ratio);
     m.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
     m.Validate("motor");
     out.driver = b.AddDcMotorDriver("drive", out.crank, m);

@@ -151,6 +151,12 @@ TEST(RunInput, BadInputNamesKeyValueAndRule) {
   expect_error({"slider.mass=0"}, "slider.mass");
   expect_error({"drive.speed=-5 rpm"}, "drive.speed");
   expect_error({"rod.type=rigid", "sim.start=steady"}, "sim.start");  // no elastic state to settle
+  // Keys the multibody layer checks again under its own names: the error names the input key.
+  expect_error({"slider.damping=-1"}, "slider.damping");
+  expect_error({"slider.friction=-1 N"}, "slider.friction");
+  expect_error({"slider.friction_velocity=0"}, "slider.friction_velocity");
+  expect_error({"drive.type=motor", "motor.belt_ratio=0"}, "motor.belt_ratio");
+  expect_error({"drive.type=profile", "drive.profile=0:0,0.5:100,0.4:200"}, "drive.profile");
   EXPECT_THROW(Preset("flexible-rig", {"rod.colour=red"}), InputError);
   EXPECT_THROW(Preset("flexible-rig", {"rod.height=tall"}), InputError);
   EXPECT_THROW(Preset("flexible-rig", {"drive.speed=3 kg"}), InputError);
