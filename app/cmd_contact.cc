@@ -163,6 +163,11 @@ int RunContact(const ContactOptions& opt) {
   geometry.bush_radius = ParseQuantity("bush-radius", opt.bush_radius, Dimension::kLength);
   geometry.pin_radius = ParseQuantity("pin-radius", opt.pin_radius, Dimension::kLength);
   geometry.length = ParseQuantity("length", opt.length, Dimension::kLength);
+  RequirePositive("pin-radius", geometry.pin_radius);
+  if (!(geometry.pin_radius < geometry.bush_radius)) {
+    throw InputError("pin-radius", FormatValue(geometry.pin_radius) + " m",
+                     "must be < bush-radius = " + FormatValue(geometry.bush_radius) + " m (the pin sits in the bush)");
+  }
 
   contact::ParameterMap overrides;
   for (const auto& [key, text] : opt.law_params) {

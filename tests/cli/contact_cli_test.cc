@@ -122,6 +122,10 @@ TEST(ContactCli, ParameterTheLawDoesNotTakeExitsWithCode2) {
   const RunResult bad_e =
       RunFlexrod("contact --law flores --restitution 1.5 --mass 1 --velocity 1");
   EXPECT_EQ(bad_e.exit_code, 2) << bad_e.output;
+  // A pin larger than its bush: the error names the flag.
+  const RunResult big_pin = RunFlexrod("contact --law hertz --mass 1 --velocity 1 --pin-radius \"10 mm\"");
+  EXPECT_EQ(big_pin.exit_code, 2) << big_pin.output;
+  EXPECT_NE(big_pin.output.find("pin-radius = 0.01 m: must be < bush-radius"), std::string::npos) << big_pin.output;
 }
 
 TEST(ContactCli, PlotWritesAPng) {
