@@ -252,17 +252,26 @@ def clearance_mm(directory):
 
 
 def plot_study(directory):
-    """Bar plot of the peak slider acceleration of every case in DIR/table.csv. (Each case's
-    directory holds its own plots, the slider acceleration against the ideal twin among them.)"""
+    """Bar plot of the peak slider acceleration of every case in DIR/table.csv, beside the median
+    over revolutions of each revolution's peak (the trend statistic). (Each case's directory
+    holds its own plots, the slider acceleration against the ideal twin among them.)"""
     with open(os.path.join(directory, "table.csv"), newline="") as f:
         rows = list(csv.reader(f))
     header, rows = rows[0], rows[1:]
-    peak_col = header.index("peak abs slider acc. [m/s^2]")
     labels = [r[0] + " / " + r[1] for r in rows]
-    peaks = [float(r[peak_col]) if r[peak_col] not in ("n/a", "") else float("nan") for r in rows]
+
+    def column(name):
+        c = header.index(name)
+        return [float(r[c]) if r[c] not in ("n/a", "") else float("nan") for r in rows]
+
+    peaks = column("peak abs slider acc. [m/s^2]")
+    medians = column("median per-rev. peak abs slider acc. [m/s^2]")
     fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(rows)), 4.5))
-    ax.bar(range(len(rows)), peaks, color="C0")
-    ax.set_xticks(range(len(rows)))
+    x = list(range(len(rows)))
+    ax.bar([i - 0.2 for i in x], peaks, width=0.4, color="C0", label="peak")
+    ax.bar([i + 0.2 for i in x], medians, width=0.4, color="C1", label="median of per-revolution peaks")
+    ax.legend(fontsize=8)
+    ax.set_xticks(x)
     ax.set_xticklabels(labels, rotation=70, ha="right", fontsize=8)
     ax.set_ylabel("peak |slider acceleration| [m/s^2]")
     ax.set_yscale("log")
