@@ -281,7 +281,7 @@ void ClearanceJoint::Roots(double /*t*/, const MarkerKinematics& bush,
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
   const bool on = memory[kContactFlag] > 0.5;
   g[0] = on ? k.penetration + EventBand() : k.penetration - EventBand();
-  if (history_law_) g[1] = memory[kContactFlag] > 0.5 ? k.penetration_rate : 1.0;
+  if (history_law_) g[1] = on ? k.penetration_rate : 1.0;
 }
 
 bool ClearanceJoint::OnRoot(int index, int direction, double t, const MarkerKinematics& bush,

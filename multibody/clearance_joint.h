@@ -128,7 +128,8 @@ class ClearanceJoint final : public ForceElement {
                 const double* z, const double* memory, ElementOutput* out) const override;
   double PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin,
                          const double* z, const double* memory) const override;
-  /// g[0] = δ [m]; g[1] = δ̇ [m/s] while in contact, 1 otherwise (elasto-plastic only).
+  /// g[0] = δ − b with the flag off, δ + b with it on [m] (b = EventBand()); g[1] = δ̇ [m/s]
+  /// while in contact, 1 otherwise (elasto-plastic only).
   void Roots(double t, const MarkerKinematics& bush, const MarkerKinematics& pin, const double* z,
              const double* memory, double* g) const override;
   /// Root 0 upwards with the flag off: onset (flag on, v₀, state reset, count) → restart. Root 0
