@@ -163,11 +163,6 @@ int RunContact(const ContactOptions& opt) {
   geometry.bush_radius = ParseQuantity("bush-radius", opt.bush_radius, Dimension::kLength);
   geometry.pin_radius = ParseQuantity("pin-radius", opt.pin_radius, Dimension::kLength);
   geometry.length = ParseQuantity("length", opt.length, Dimension::kLength);
-  RequirePositive("pin-radius", geometry.pin_radius);
-  if (!(geometry.pin_radius < geometry.bush_radius)) {
-    throw InputError("pin-radius", FormatValue(geometry.pin_radius) + " m",
-                     "must be < bush-radius = " + FormatValue(geometry.bush_radius) + " m (the pin sits in the bush)");
-  }
 
   contact::ParameterMap overrides;
   for (const auto& [key, text] : opt.law_params) {
@@ -194,8 +189,19 @@ int RunContact(const ContactOptions& opt) {
   if (takes("calibration-velocity") && !overrides.count("calibration-velocity")) {
     overrides["calibration-velocity"] = velocity;
   }
-  const contact::ResolvedNormalLaw resolved =
-      contact::ResolveNormalLaw(opt.law, materials, geometry, overrides);
+  const contact::ResolvedNormalLaw resolved = [&] {
+    try {
+      return contact::ResolveNormalLaw(opt.law, materials, geometry, overrides);
+    } catch (const InputError& e) {
+      // The contact layer names its inputs contact.pin_radius, contact.bush_E, ...: report the
+      // flag (pin-radius, bush-E, ...; the clearance is set through --pin-radius).
+      std::string key = e.key();
+      if (key.rfind("contact.", 0) != 0) throw;
+      key = key == "contact.clearance" ? "pin-radius" : key.substr(8);
+      std::replace(key.begin(), key.end(), '_', '-');
+      throw InputError(key, e.value(), e.rule());
+    }
+  }();
 
   // ---- work ----
   const contact::ImpactResult r = contact::SimulateImpact(resolved.law, mass, velocity);

@@ -125,7 +125,10 @@ TEST(ContactCli, ParameterTheLawDoesNotTakeExitsWithCode2) {
   // A pin larger than its bush: the error names the flag.
   const RunResult big_pin = RunFlexrod("contact --law hertz --mass 1 --velocity 1 --pin-radius \"10 mm\"");
   EXPECT_EQ(big_pin.exit_code, 2) << big_pin.output;
-  EXPECT_NE(big_pin.output.find("pin-radius = 0.01 m: must be < bush-radius"), std::string::npos) << big_pin.output;
+  EXPECT_NE(big_pin.output.find("pin-radius = 0.01 m: must be < bush_radius"), std::string::npos) << big_pin.output;
+  const RunResult soft_bush = RunFlexrod("contact --law hertz --mass 1 --velocity 1 --bush-E \"-3 GPa\"");
+  EXPECT_EQ(soft_bush.exit_code, 2) << soft_bush.output;
+  EXPECT_NE(soft_bush.output.find("bush-E = "), std::string::npos) << soft_bush.output;
 }
 
 TEST(ContactCli, PlotWritesAPng) {

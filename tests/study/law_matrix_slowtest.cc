@@ -19,7 +19,7 @@
 namespace flexrod {
 namespace {
 
-TEST(LawMatrix, EveryNormalLawWithEveryFrictionLawRunsOnBothRigs) {
+TEST(LawMatrix, EveryLawPairOnBothRigsKeepsThePinOutOfTheBushAndClosesItsEnergyBalance) {
   std::vector<std::string> frictions = contact::FrictionLawNames();
   frictions.push_back("none");
   for (const char* rig : {"flexible-rig", "rigid-rig"}) {
