@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <numbers>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -70,6 +71,14 @@ int Run(const RunOptions& opt) {
     std::printf("  slider acceleration: peak +%.4g / -%.4g m/s^2, rms %.4g m/s^2 over %d revolutions\n",
                 a["peak_positive"].get<double>(), a["peak_negative"].get<double>(), a["rms"].get<double>(),
                 a["revolutions"].get<int>());
+  }
+  if (s.contains("crank_speed")) {
+    const auto& w = s["crank_speed"];
+    constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+    std::printf("  crank speed: mean %.5g rpm (min %.5g, max %.5g)", w["mean [rad/s]"].get<double>() * kRpm,
+                w["min [rad/s]"].get<double>() * kRpm, w["max [rad/s]"].get<double>() * kRpm);
+    if (!w["set [rad/s]"].is_null()) std::printf(", set %.5g rpm", w["set [rad/s]"].get<double>() * kRpm);
+    std::printf("\n");
   }
   if (s.contains("load_amplification")) {
     const auto& a = s["load_amplification"];

@@ -284,6 +284,16 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
     s["channels"][c.name] = {{"unit", c.unit}, {"peak_abs", peak_abs}, {"rms", rms}};
   }
   if (!mm.is_pendulum && ts.num_samples() > 2) {
+    // Crank speed over the capture: the mean from the angle advanced (exact for any sampling),
+    // the extremes from the samples. A motor drive droops and fluctuates; the others hold it.
+    const auto th = ts.values("crank_angle"), w = ts.values("crank_speed");
+    const double duration = static_cast<double>(ts.num_samples() - 1) / ts.sample_rate();
+    const auto [lo, hi] = std::minmax_element(w.begin(), w.end());
+    s["crank_speed"] = {{"mean [rad/s]", (th.back() - th.front()) / duration},
+                        {"min [rad/s]", *lo},
+                        {"max [rad/s]", *hi},
+                        {"set [rad/s]", cfg.Text("drive.type") == "profile" ? nlohmann::json(nullptr)
+                                                                            : nlohmann::json(cfg.Quantity("drive.speed"))}};
     const study::SignalSummary a =
         study::CalcSignalSummary(ts, "slider_acceleration", "crank_angle", index_angle, ts.all());
     s["slider_acceleration"] = {{"unit", "m/s^2"},
@@ -479,8 +489,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   if (mm.clearance.index >= 0 && out.channels.num_samples() > 2) {
     out.impacts = study::FindImpacts(out.channels);
     const study::ImpactStatistics st = study::CalcImpactStatistics(out.impacts);
-    const double revs = out.channels.num_samples() / out.channels.sample_rate() * cfg.Quantity("drive.speed") /
-                        (2.0 * std::numbers::pi);
+    const auto th = out.channels.values("crank_angle");
+    const double revs = (th.back() - th.front()) / (2.0 * std::numbers::pi);
     out.summary["impacts"] = {{"count", st.count},
                               {"incomplete", st.incomplete},
                               {"per_revolution", revs > 0 ? st.count / revs : 0.0},

@@ -208,11 +208,30 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     }
     out.driver = b.AddSpeedProfileDriver("drive", out.crank, theta0, times, speeds);
   } else {
+    // DC motor on armature-voltage (SCR) control: motor.* is the rated line, T = T_s (1 − ω/ω₀)
+    // at full voltage. A DC motor's torque line at armature voltage V is T = (k/R)(V − k ω): the
+    // slope k²/R = T_s/ω₀ is the motor's, the no-load speed scales with V. The SCR is set so
+    // that the no-load crank speed is drive.speed (V/V_rated = belt ratio · drive.speed / ω₀);
+    // under load the mean speed droops by the mean load torque / slope, and impacts make it
+    // fluctuate through the flywheel.
     multibody::DcMotorSpec m;
-    m.stall_torque = cfg.Quantity("motor.stall_torque");
-    m.no_load_speed = cfg.Quantity("motor.no_load_speed");
+    const double rated_stall = cfg.Quantity("motor.stall_torque");
+    const double rated_no_load = cfg.Quantity("motor.no_load_speed");
+    RequirePositive("motor.stall_torque", rated_stall);
+    RequirePositive("motor.no_load_speed", rated_no_load);
     m.ratio = cfg.Quantity("motor.belt_ratio");
     RequirePositive("motor.belt_ratio", m.ratio);
+    const double w = cfg.Quantity("drive.speed");
+    RequirePositive("drive.speed", w);
+    const double voltage_fraction = m.ratio * w / rated_no_load;
+    if (voltage_fraction > 1.0 + 1e-12) {
+      throw InputError("drive.speed", FormatValue(w) + " rad/s",
+                       "with drive.type = motor must be at most motor.no_load_speed / motor.belt_ratio = " +
+                           FormatValue(rated_no_load / m.ratio) +
+                           " rad/s: the no-load speed at full armature voltage");
+    }
+    m.stall_torque = voltage_fraction * rated_stall;
+    m.no_load_speed = voltage_fraction * rated_no_load;  // = belt ratio · drive.speed
     m.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
     m.Validate("motor");
     out.driver = b.AddDcMotorDriver("drive", out.crank, m);
@@ -238,7 +257,9 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   };
   out.p0 = rigid_pose(theta0);
   // v = ω dp/dθ by a central difference (h = 1e-6 rad: error ~1e-12 relative).
-  const double w0 = drive == "constant" ? cfg.Quantity("drive.speed") : 0.0;
+  // Constant drive and motor start at drive.speed (the motor at its no-load speed), a speed
+  // profile at rest: the profile's driver constraint sets its own velocity.
+  const double w0 = drive == "profile" ? 0.0 : cfg.Quantity("drive.speed");
   constexpr double kH = 1e-6;
   out.v0 = w0 * (rigid_pose(theta0 + kH) - rigid_pose(theta0 - kH)) / (2.0 * kH);
   return out;

@@ -137,6 +137,32 @@ TEST(FlexiblePendulum, UndampedConservesEnergy) {
   EXPECT_LT(min_angle, -M_PI / 3);
 }
 
+// DC motor on armature-voltage control: drive.speed is the no-load crank speed, the slope is
+// the rated line's. Every sample lies on T = c (ω_set − ω) with c = ratio² T_s / ω₀ =
+// 9 · 20 N m / 1900 rpm; the mean speed droops below the set speed by mean load / c, and
+// the motor's work closes the energy balance.
+TEST(RigidRig, MotorDriveRunsAtTheSetSpeedOnTheRatedTorqueLine) {
+  const Config cfg = Preset("rigid-rig", {"drive.type=motor", "drive.speed=177 rpm", "joint.type=ideal",
+                                          "sim.settle=0.5 s", "sim.capture=0.7 s", "sim.sample_rate=20 kHz"});
+  const RunResult r = RunSimulation(cfg);
+  ASSERT_TRUE(r.ok()) << r.status.Summary();
+  constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
+  const double w_set = 177 * kRpm, c = 9.0 * 20.0 / (1900 * kRpm);
+  const auto w = r.channels.values("crank_speed"), torque = r.channels.values("crank_torque");
+  double worst = 0.0, mean_torque = 0.0;
+  for (size_t i = 0; i < w.size(); ++i) {
+    worst = std::max(worst, std::abs(torque[i] - c * (w_set - w[i])));
+    mean_torque += torque[i] / static_cast<double>(w.size());
+  }
+  EXPECT_LT(worst, 1e-9 * c * w_set);
+  const double mean = r.summary["crank_speed"]["mean [rad/s]"].get<double>();
+  EXPECT_GT(mean, 0.95 * w_set);  // the ideal rig's load (guide damping and friction) is light
+  EXPECT_LT(mean, w_set);
+  EXPECT_GT(mean_torque, 0.0);  // the motor drives against the guide's losses
+  EXPECT_NEAR(r.summary["crank_speed"]["set [rad/s]"].get<double>(), w_set, 1e-12 * w_set);
+  EXPECT_LT(r.summary["energy"]["relative_balance_error"].get<double>(), 1e-4);
+}
+
 TEST(RunInput, BadInputNamesKeyValueAndRule) {
   auto expect_error = [](const std::vector<std::string>& sets, const std::string& key) {
     try {
@@ -156,6 +182,8 @@ TEST(RunInput, BadInputNamesKeyValueAndRule) {
   expect_error({"slider.friction=-1 N"}, "slider.friction");
   expect_error({"slider.friction_velocity=0"}, "slider.friction_velocity");
   expect_error({"drive.type=motor", "motor.belt_ratio=0"}, "motor.belt_ratio");
+  // 700 rpm at the crank needs 2100 rpm at the motor, beyond its 1900 rpm at rated voltage.
+  expect_error({"drive.type=motor", "drive.speed=700 rpm"}, "drive.speed");
   expect_error({"drive.type=profile", "drive.profile=0:0,0.5:100,0.4:200"}, "drive.profile");
   EXPECT_THROW(Preset("flexible-rig", {"rod.colour=red"}), InputError);
   EXPECT_THROW(Preset("flexible-rig", {"rod.height=tall"}), InputError);
