@@ -128,6 +128,10 @@ TEST(ClearanceConfig, BadInputNamesTheJointKey) {
   const std::string rule = ExpectInputError(resolve({"joint.law=hertz", "joint.damping=5 N s/m"}),
                                             "joint.damping");
   EXPECT_NE(rule.find("does not take"), std::string::npos) << rule;
+  // Hertz is elastic: a restitution given to it is refused; its default (a resolved input
+  // lists it) is not.
+  ExpectInputError(resolve({"joint.law=hertz", "joint.restitution=0.5"}), "joint.restitution");
+  EXPECT_NO_THROW(resolve({"joint.law=hertz", "joint.restitution=0.9"})());
   ExpectInputError(resolve({"joint.exponent=0.5"}), "joint.exponent");
   ExpectInputError(resolve({"joint.stiffness=-1"}), "joint.stiffness");
   ExpectInputError(resolve({"joint.law=hybrid", "joint.working_penetration=3 mm"}),
