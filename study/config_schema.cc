@@ -131,7 +131,7 @@ const std::vector<ParamDef>& Schema() {
       {"sim.start", K::kChoice, D::kDimensionless, "rigid",
        "initial rod state: rigid (undeformed on the rigid motion), static (static equilibrium), "
        "steady (constant drive: revolutions from index to index until the rod's elastic state repeats to "
-       "max(1e-6, 1000 sim.rel_tol) of its peak, at most 100; then the capture, sim.settle unused)",
+       "1000 sim.rel_tol of its peak (within [1e-6, 1e-2]), at most 100; then the capture, sim.settle unused)",
        {"rigid", "static", "steady"}},
       {"sim.settle", K::kQuantity, D::kTime, "1 s", "settling time before capture [s], >= 0"},
       {"sim.capture", K::kQuantity, D::kTime, "3 s", "captured duration [s], > 0 (RIG.md Table 2)"},
