@@ -3,11 +3,11 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
-#include <numbers>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <numbers>
 
 #include "app/commands.h"
 #include "app/plotting.h"

@@ -125,22 +125,17 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
   const std::string law = cfg.Text("joint.law");
   const std::vector<std::string>& accepted =
       Rekeyed([&]() -> const std::vector<std::string>& { return contact::NormalLawParameterKeys(law); });
-  // A restitution set for a law without hysteresis damping (Hertz, the linear spring, the line
-  // laws) is bad input. Its default value does not count as set: a written resolved input lists
-  // it and must load again.
-  if (cfg.IsSet("joint.restitution") && restitution != Config().Quantity("joint.restitution") &&
-      std::find(accepted.begin(), accepted.end(), "restitution") == accepted.end()) {
-    std::string takes;
-    for (const std::string& k : accepted) takes += (takes.empty() ? "" : ", ") + k;
-    throw InputError("joint.restitution", FormatValue(restitution),
-                     "law '" + law + "' does not take this parameter; it takes: " + takes);
-  }
   // An override is given when its value is not 0 (0 = derived; this keeps a written resolved
   // input loadable as an input).
   contact::ParameterMap overrides;
   for (const OverrideKey& k : kLawOverrides) {
     const double v = cfg.Quantity(k.input);
     if (v != 0.0) overrides[k.parameter] = v;
+  }
+  // A restitution given (other than its default, which a written resolved input lists) is an
+  // override too: a law without hysteresis damping (Hertz, linear spring, line laws) refuses it.
+  if (cfg.IsSet("joint.restitution") && restitution != Config().Quantity("joint.restitution")) {
+    overrides["restitution"] = restitution;
   }
   const bool takes_mass =
       std::find(accepted.begin(), accepted.end(), "effective-mass") != accepted.end();
