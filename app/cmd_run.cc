@@ -101,6 +101,11 @@ int Run(const RunOptions& opt) {
   if (s.contains("warnings")) {
     for (const auto& w : s["warnings"]) std::fprintf(stderr, "flexrod: warning: %s\n", w.get<std::string>().c_str());
   }
+  if (s.contains("ideal") && s["ideal"].contains("warnings")) {  // the twin's own, e.g. its energy balance
+    for (const auto& w : s["ideal"]["warnings"]) {
+      std::fprintf(stderr, "flexrod: warning: ideal-joint twin: %s\n", w.get<std::string>().c_str());
+    }
+  }
   if (run.vtk && !run.vtk_collection.empty()) {
     std::printf("  paraview: %zu frames at %.6g Hz, rod deformation x%.6g -> %s\n", run.vtk->frames.size(),
                 run.vtk->frame_rate, run.vtk->options.scale, run.vtk_collection.c_str());

@@ -55,6 +55,27 @@ TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
   }
 }
 
+// A clearance run's ideal-joint twin is a run of its own; its warnings (here: a loose
+// tolerance breaks its energy balance) reach the console, marked, not only summary.json.
+TEST(RunCli, TheTwinsWarningsAreShown) {
+  const fs::path out = TempDir("twin_warning");
+  const fs::path err = TempDir("twin_warning_stderr");
+  const std::string cmd = std::string(FLEXROD_BINARY) +
+                          " run rigid-rig --no-plot --set sim.rel_tol=1e-2 --set sim.settle=0.1s --set sim.capture=0.4s "
+                          "--set sim.sample_rate=2kHz --out " + out.string() + " >/dev/null 2>" + err.string();
+  ASSERT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  ASSERT_TRUE(s["ideal"].contains("warnings"));
+  std::ifstream e(err);
+  const std::string text((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  for (const auto& w : s["ideal"]["warnings"]) {
+    EXPECT_NE(text.find("flexrod: warning: ideal-joint twin: " + w.get<std::string>()), std::string::npos) << text;
+  }
+  fs::remove_all(out);
+  fs::remove(err);
+}
+
 TEST(RunCli, ExampleFilesRunAsInputFiles) {
   const fs::path out = TempDir("file");
   EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) + "/examples/rigid-rig.toml --no-plot "
