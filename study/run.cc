@@ -450,7 +450,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
 
   RunResult out;
   nlohmann::json steady;  // sim.start = steady: how the periodic state was found
-  if (start == "steady" && !mm.is_pendulum) {
+  if (start == "steady") {  // a slider-crank with a flexible rod (checked above)
     // Periodic steady state: revolution by revolution, from crank index to crank index, until
     // the rod's elastic coordinates at kSteadySamples points of a revolution repeat those of the
     // previous one to 1000 · sim.rel_tol of their peak (kept within [1e-6, 1e-2]). The repeat cannot be closer
