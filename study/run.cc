@@ -28,55 +28,52 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
   return out;
 }
 
-/// A quantity several channels share, computed once per sample (keyed on the sample time).
-template <typename F>
-auto OncePerSample(F compute) {
-  using T = std::decay_t<std::invoke_result_t<F, const SampleView&>>;
-  struct Cache {
-    bool valid{false};
-    double t{0.0};
-    T value{};
-  };
-  const auto cache = std::make_shared<Cache>();
-  return [compute, cache](const SampleView& s) -> const T& {
-    if (!cache->valid || cache->t != s.t()) {
-      cache->value = compute(s);
-      cache->t = s.t();
-      cache->valid = true;
-    }
-    return cache->value;
-  };
-}
-
-/// Channel recorder: names, units and a function per sample, filled in the capture window.
+/// Channel recorder, filled in the capture window. Channels come in groups: a group's function
+/// writes the values of all its channels for one sample, so what they share (a joint reaction,
+/// the contact response, the energies) is computed once, with one call per group.
 class Recorder {
  public:
-  using Fn = std::function<double(const SampleView&)>;
-  void Add(std::string name, std::string unit, Fn fn) {
-    names_.push_back(std::move(name));
-    units_.push_back(std::move(unit));
-    fns_.push_back(std::move(fn));
-    values_.emplace_back();
+  struct Spec {
+    std::string name;
+    std::string unit;
+  };
+  using Fn = std::function<void(const SampleView&, double* values)>;
+  void Add(std::vector<Spec> channels, Fn fn) {
+    groups_.push_back({names_.size(), std::move(fn)});
+    for (Spec& c : channels) {
+      names_.push_back(std::move(c.name));
+      units_.push_back(std::move(c.unit));
+    }
+    values_.resize(names_.size());
+    row_.resize(names_.size());
   }
   void Record(const SampleView& s) {
-    if (values_.empty() || values_[0].empty()) first_t_ = s.t();
-    for (size_t i = 0; i < fns_.size(); ++i) values_[i].push_back(fns_[i](s));
+    if (size_ == 0) first_t_ = s.t();
+    for (const Group& g : groups_) g.fn(s, row_.data() + g.first);
+    for (size_t c = 0; c < row_.size(); ++c) values_[c].push_back(row_[c]);
+    ++size_;
   }
-  size_t size() const { return values_.empty() ? 0 : values_[0].size(); }
+  size_t size() const { return size_; }
   const std::vector<std::string>& names() const { return names_; }
   void Reserve(size_t n) {
     for (auto& v : values_) v.reserve(n);
   }
   study::TimeSeries Finish(double rate) {
-    study::TimeSeries ts(rate, size() ? first_t_ : 0.0);
-    for (size_t i = 0; i < fns_.size(); ++i) ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
+    study::TimeSeries ts(rate, size_ ? first_t_ : 0.0);
+    for (size_t i = 0; i < names_.size(); ++i) ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
     return ts;
   }
 
  private:
+  struct Group {
+    size_t first;  // index of its first channel
+    Fn fn;
+  };
   std::vector<std::string> names_, units_;
-  std::vector<Fn> fns_;
+  std::vector<Group> groups_;
   std::vector<std::vector<double>> values_;
+  std::vector<double> row_;  // one sample of every channel
+  size_t size_{0};
   double first_t_{0.0};
 };
 
@@ -139,40 +136,62 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
   if (!mm.is_pendulum) {
     const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
     const int sx = m.coordinate(mm.slider, multibody::kX);
-    const auto driver = mm.driver;
-    rec->Add("crank_angle", "rad", [=](const SampleView& s) { return s.coordinate(crank_theta); });
-    rec->Add("crank_speed", "rad/s", [=](const SampleView& s) { return s.velocity(crank_theta); });
-    rec->Add("crank_torque", "N*m", [=](const SampleView& s) { return s.Driver(driver).torque; });
-    rec->Add("slider_position", "m", [=](const SampleView& s) { return s.coordinate(sx); });
-    rec->Add("slider_velocity", "m/s", [=](const SampleView& s) { return s.velocity(sx); });
-    rec->Add("slider_acceleration", "m/s^2", [=](const SampleView& s) { return s.acceleration(sx); });
+    rec->Add({{"crank_angle", "rad"}, {"crank_speed", "rad/s"}, {"crank_torque", "N*m"}},
+             [=, driver = mm.driver](const SampleView& s, double* v) {
+               v[0] = s.coordinate(crank_theta);
+               v[1] = s.velocity(crank_theta);
+               v[2] = s.Driver(driver).torque;
+             });
+    rec->Add({{"slider_position", "m"}, {"slider_velocity", "m/s"}, {"slider_acceleration", "m/s^2"}},
+             [=](const SampleView& s, double* v) {
+               v[0] = s.coordinate(sx);
+               v[1] = s.velocity(sx);
+               v[2] = s.acceleration(sx);
+             });
     // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
-    const auto big = OncePerSample([joint = mm.big_end_joint](const SampleView& s) { return s.Reaction(joint); });
-    rec->Add("big_end_force_x", "N", [=](const SampleView& s) { return big(s).force_j.x(); });
-    rec->Add("big_end_force_y", "N", [=](const SampleView& s) { return big(s).force_j.y(); });
+    rec->Add({{"big_end_force_x", "N"}, {"big_end_force_y", "N"}},
+             [joint = mm.big_end_joint](const SampleView& s, double* v) {
+               const Vec2 f = s.Reaction(joint).force_j;
+               v[0] = f.x();
+               v[1] = f.y();
+             });
     if (mm.small_end_joint.index >= 0) {  // ideal small-end joint
       // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
-      const auto small = OncePerSample([joint = mm.small_end_joint](const SampleView& s) { return s.Reaction(joint); });
-      rec->Add("bearing_force_x", "N", [=](const SampleView& s) { return small(s).force_i.x(); });
-      rec->Add("bearing_force_y", "N", [=](const SampleView& s) { return small(s).force_i.y(); });
-      rec->Add("bearing_force", "N", [=](const SampleView& s) { return small(s).force_i.norm(); });
+      rec->Add({{"bearing_force_x", "N"}, {"bearing_force_y", "N"}, {"bearing_force", "N"}},
+               [joint = mm.small_end_joint](const SampleView& s, double* v) {
+                 const Vec2 f = s.Reaction(joint).force_i;
+                 v[0] = f.x();
+                 v[1] = f.y();
+                 v[2] = f.norm();
+               });
     }
     if (mm.clearance.index >= 0) {  // clearance small-end joint (multibody/clearance_joint.h)
-      const auto at = OncePerSample(
-          [joint = mm.clearance](const SampleView& s) { return multibody::CalcClearanceResponse(s, joint); });
       // Pin centre relative to the bush centre (world axes); penetration < 0 is the open gap.
-      rec->Add("journal_eccentricity_x", "m", [=](const SampleView& s) { return at(s).kinematics.eccentricity.x(); });
-      rec->Add("journal_eccentricity_y", "m", [=](const SampleView& s) { return at(s).kinematics.eccentricity.y(); });
-      rec->Add("journal_eccentricity", "m", [=](const SampleView& s) { return at(s).kinematics.eccentricity_norm; });
-      rec->Add("penetration", "m", [=](const SampleView& s) { return at(s).kinematics.penetration; });
-      rec->Add("penetration_rate", "m/s", [=](const SampleView& s) { return at(s).kinematics.penetration_rate; });
-      rec->Add("contact_normal_force", "N", [=](const SampleView& s) { return at(s).normal_force; });
-      rec->Add("contact_friction_force", "N", [=](const SampleView& s) { return at(s).friction_force; });
-      rec->Add("contact_dissipation", "W", [=](const SampleView& s) { return at(s).dissipation(); });
+      rec->Add({{"journal_eccentricity_x", "m"},
+                {"journal_eccentricity_y", "m"},
+                {"journal_eccentricity", "m"},
+                {"penetration", "m"},
+                {"penetration_rate", "m/s"},
+                {"contact_normal_force", "N"},
+                {"contact_friction_force", "N"},
+                {"contact_dissipation", "W"}},
+               [joint = mm.clearance](const SampleView& s, double* v) {
+                 const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, joint);
+                 v[0] = r.kinematics.eccentricity.x();
+                 v[1] = r.kinematics.eccentricity.y();
+                 v[2] = r.kinematics.eccentricity_norm;
+                 v[3] = r.kinematics.penetration;
+                 v[4] = r.kinematics.penetration_rate;
+                 v[5] = r.normal_force;
+                 v[6] = r.friction_force;
+                 v[7] = r.dissipation();
+               });
     }
   } else {
-    rec->Add("rod_angle", "rad", [=](const SampleView& s) { return s.coordinate(rod_theta); });
-    rec->Add("rod_angular_velocity", "rad/s", [=](const SampleView& s) { return s.velocity(rod_theta); });
+    rec->Add({{"rod_angle", "rad"}, {"rod_angular_velocity", "rad/s"}}, [=](const SampleView& s, double* v) {
+      v[0] = s.coordinate(rod_theta);
+      v[1] = s.velocity(rod_theta);
+    });
   }
   if (mm.rod) {
     const fem::ReducedRod& rod = *mm.rod;
@@ -184,12 +203,12 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     const int probe = static_cast<int>(std::lround(x_probe / rod.rod.element_length()));
     const int last = rod.rod.num_nodes() - 1;
     const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
-    rec->Add("rod_deflection", "m", [=](const SampleView& s) {
+    rec->Add({{"rod_deflection", "m"}}, [=](const SampleView& s, double* v) {
       const Eigen::Map<const Vec> q(s.y() + q0, n);
       auto pos = [&](int k) -> Vec2 { return keep->nodes[k].position + keep->nodes[k].S_u * q; };
       const Vec2 a = pos(0), b = pos(last), c = pos(probe);
       const Vec2 chord = (b - a).normalized();
-      return chord.x() * (c - a).y() - chord.y() * (c - a).x();  // signed distance from the chord
+      v[0] = chord.x() * (c - a).y() - chord.y() * (c - a).x();  // signed distance from the chord
     });
     const double E = rod.rod.material.youngs_modulus;
     const double y = rod.rod.section.half_depth_in_plane();
@@ -198,28 +217,34 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
       const std::string name = "gauge" + std::to_string(g + 1);
       const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
       const RowVec strain_row = rows.axial + rows.bending;
-      rec->Add("strain_" + name, "1", [=](const SampleView& s) {
-        return strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
-      });
-      rec->Add("stress_" + name, "Pa", [=](const SampleView& s) {
-        return E * strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
+      rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}}, [=](const SampleView& s, double* v) {
+        v[0] = strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
+        v[1] = E * v[0];
       });
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
     }
+    std::vector<Recorder::Spec> modal;
     for (int k = 0; k < n; ++k) {
       std::string name = "q";  // (not "q" + to_string: GCC 12 -Wrestrict false positive, PR 105329)
       name += std::to_string(k + 1);
-      rec->Add(name, "1", [=](const SampleView& s) { return s.coordinate(q0 + k); });
+      modal.push_back({name, "1"});
     }
+    rec->Add(std::move(modal), [=](const SampleView& s, double* v) { std::copy_n(s.y() + q0, n, v); });
   }
-  const auto energy = OncePerSample([](const SampleView& s) { return s.Energies(); });
-  rec->Add("energy_kinetic", "J", [=](const SampleView& s) { return energy(s).kinetic; });
-  rec->Add("energy_strain", "J", [=](const SampleView& s) { return energy(s).strain; });
-  rec->Add("energy_dissipated", "J",
-           [=](const SampleView& s) { return energy(s).dissipated_elements + energy(s).dissipated_damping; });
-  rec->Add("driver_work", "J", [=](const SampleView& s) { return energy(s).driver_work; });
-  rec->Add("energy_balance_error", "J", [=](const SampleView& s) { return energy(s).balance_error; });
-  rec->Add("constraint_violation", "m", [](const SampleView& s) { return s.ConstraintViolation(); });
+  rec->Add({{"energy_kinetic", "J"},
+            {"energy_strain", "J"},
+            {"energy_dissipated", "J"},
+            {"driver_work", "J"},
+            {"energy_balance_error", "J"}},
+           [](const SampleView& s, double* v) {
+             const multibody::EnergyReport e = s.Energies();
+             v[0] = e.kinetic;
+             v[1] = e.strain;
+             v[2] = e.dissipated_elements + e.dissipated_damping;
+             v[3] = e.driver_work;
+             v[4] = e.balance_error;
+           });
+  rec->Add({{"constraint_violation", "m"}}, [](const SampleView& s, double* v) { v[0] = s.ConstraintViolation(); });
 }
 
 multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
