@@ -204,6 +204,9 @@ ClearanceResponse ClearanceJoint::CalcResponse(const MarkerKinematics& bush,
   const contact::ClearanceKinematics& k = r.kinematics;
   const double delta = k.penetration, rate = k.penetration_rate;
   r.approach_velocity = memory[kApproachVelocity];
+  r.contact_flag = memory[kContactFlag] > 0.5;
+  r.onsets = std::lround(memory[kOnsetCount]);
+  r.onset_time = memory[kOnsetTime];
   const LawState s = LawStateOf(z, memory);
 
   // Normal force, its state and its energy.

@@ -5,9 +5,9 @@
 // optional friction law, their internal states (Maxwell / standard-linear-solid dashpot, LuGre
 // bristle) as element states, and the energy bookkeeping (stored elastic energy and dissipation
 // rate) that closes the run's energy balance. CalcClearanceResponse evaluates the joint at an
-// output sample for the report channels. What does not live here: the laws and the geometry
-// (contact/), the resolution of laws from input keys (study/joint_config.h), the impact log
-// (study/impact_log.h, a scan of the sampled channels).
+// output sample or an integrator step, for the report channels and the impact log. What does not
+// live here: the laws and the geometry (contact/), the resolution of laws from input keys
+// (study/joint_config.h), the impact log (study/impact_log.h, built from the located events).
 //
 // Markers: i = the bush centre B (on the rod's small-end clamp: node marker of a flexible rod or
 // a rigid-body marker), j = the pin (journal) centre P (on the slider). Both marker points are
@@ -95,6 +95,9 @@ enum ClearanceMemorySlot : int {
 struct ClearanceResponse {
   contact::ClearanceKinematics kinematics;  ///< δ, δ̇, n, t, slip, eccentricity (contact/geometry.h)
   bool in_contact{false};                   ///< contact flag on and δ > 0
+  bool contact_flag{false};                 ///< on from a located onset to the located separation
+  long onsets{0};                           ///< onsets located so far in the run (incl. a start in contact)
+  double onset_time{0.0};                   ///< time of the last located onset [s]
   double approach_velocity{0.0};            ///< v₀ in use [m/s]
   double normal_force{0.0};                 ///< F_n ≥ 0 [N]
   double friction_force{0.0};               ///< F_t on the pin along t [N]

@@ -668,6 +668,14 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       }
       if (res.outcome == StepOutcome::kStep) ++steps;
       emit_up_to(t_now, true);
+      // The solution point in yev/ypev for on_step (a root or stop time refreshes them below).
+      auto report_step = [&] {
+        if (callbacks.on_step) callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
+      };
+      if (res.outcome == StepOutcome::kStep && callbacks.on_step) {
+        expand_current(t_now, &yev, &ypev);
+        report_step();
+      }
       if (res.outcome == StepOutcome::kRoot) {
         ida.RootInfo(roots);
         expand_current(t_now, &yev, &ypev);
@@ -702,6 +710,7 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
           }
         }
         if (must_restart && t_end - t_now > t_fuzz) restart(t_now);
+        report_step();
       } else if (res.outcome == StepOutcome::kRootStall) {
         // y still holds the solution at the last return (IDA has not stepped since).
         if (++stalls > kMaxRootStalls) {
@@ -715,10 +724,14 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
         ++status.root_stall_restarts;
         continue;
       } else if (res.outcome == StepOutcome::kStopTime) {
-        if (stop_index + 1 >= stops.size() || t_end - t_now <= t_fuzz) break;  // t_end reached
-        ++stop_index;
         expand_current(t_now, &yev, &ypev);
+        if (stop_index + 1 >= stops.size() || t_end - t_now <= t_fuzz) {  // t_end reached
+          report_step();
+          break;
+        }
+        ++stop_index;
         restart(t_now);  // speed-profile knot: the prescribed acceleration jumps
+        report_step();
       }
       if (t_end - t_now <= t_fuzz) break;
       if (options.max_steps > 0 && steps >= options.max_steps) {

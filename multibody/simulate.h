@@ -183,6 +183,10 @@ class SampleView {
 
 struct SimulationCallbacks {
   std::function<void(const SampleView&)> on_sample;
+  /// Every solution point the integrator returns: each accepted step's end, each located root
+  /// (after the elements' OnRoot updates and the restart) and each stop time. In time order
+  /// with the samples; a sample at the same time comes first.
+  std::function<void(const SampleView&)> on_step;
   std::function<void(const IndexCrossing&, const SampleView&)> on_index;
 };
 

@@ -1,10 +1,9 @@
-// study/impact_log.cc — contact events recovered from the sampled channels (see impact_log.h).
+// study/impact_log.cc — the impact log built from the located contact events (see impact_log.h).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "study/impact_log.h"
 
 #include <algorithm>
 #include <cstdio>
-#include <span>
 #include <stdexcept>
 
 #include "common/error.h"
@@ -12,79 +11,61 @@
 #include "study/signals.h"
 
 namespace flexrod::study {
-namespace {
 
-double Lerp(double a, double b, double s) { return a + s * (b - a); }
+ContactPoint MakeContactPoint(double time, double crank_angle, const multibody::ClearanceResponse& r) {
+  ContactPoint p;
+  p.time = time;
+  p.crank_angle = crank_angle;
+  p.contact = r.contact_flag;
+  p.onsets = r.onsets;
+  p.onset_time = r.onset_time;
+  p.penetration = r.kinematics.penetration;
+  p.penetration_rate = r.kinematics.penetration_rate;
+  p.normal_force = r.normal_force;
+  p.dissipation = r.dissipation();
+  return p;
+}
 
-}  // namespace
-
-std::vector<Impact> FindImpacts(const TimeSeries& series, const ImpactLogChannels& channels) {
-  const std::span<const double> d = series.values(channels.penetration);
-  const std::span<const double> f = series.values(channels.normal_force);
-  const std::span<const double> rate = series.values(channels.penetration_rate);
-  const bool has_angle = series.HasChannel(channels.crank_angle);
-  const bool has_dissipation = series.HasChannel(channels.dissipation);
-  const std::span<const double> angle =
-      has_angle ? series.values(channels.crank_angle) : std::span<const double>();
-  const std::span<const double> dissipation =
-      has_dissipation ? series.values(channels.dissipation) : std::span<const double>();
-  const std::size_t n = series.num_samples();
-  const double dt = series.sample_period();
-  // Power removed by the contact at sample i [W].
-  auto power = [&](std::size_t i) { return has_dissipation ? dissipation[i] : f[i] * rate[i]; };
-
-  std::vector<Impact> out;
-  std::size_t i = 0;
-  while (i < n) {
-    if (!(d[i] > 0.0)) {
-      ++i;
-      continue;
+void ImpactLogger::Observe(const ContactPoint& p) {
+  if (!started_ || p.onsets != onsets_seen_) {
+    // The first point, or the point of a located onset (the joint's count moved).
+    if (is_open_) Close(last_.time, false);  // its separation was not offered
+    if (p.contact) {
+      open_ = Impact{};
+      open_.complete = started_;
+      open_.time = started_ ? p.onset_time : p.time;
+      open_.crank_angle = WrapToTwoPi(p.crank_angle);
+      open_.approach_velocity = p.penetration_rate;
+      // Zero at the onset's own point; the onset's share if only later points are offered.
+      open_.dissipated_energy = 0.5 * p.dissipation * (p.time - open_.time);
+      is_open_ = true;
     }
-    const std::size_t a = i;
-    while (i < n && d[i] > 0.0) ++i;
-    const std::size_t b = i;  // contact samples [a, b)
-    Impact im;
-    im.first_sample = a;
-    im.end_sample = b;
-    im.complete = a > 0 && b < n;
-
-    // Onset: δ crosses 0 between samples a−1 and a.
-    double power_on = power(a);
-    if (a > 0) {
-      const double s = -d[a - 1] / (d[a] - d[a - 1]);
-      im.time = series.time(a - 1) + s * dt;
-      im.approach_velocity = Lerp(rate[a - 1], rate[a], s);
-      if (has_angle) im.crank_angle = WrapToTwoPi(Lerp(angle[a - 1], angle[a], s));
-      power_on = Lerp(power(a - 1), power(a), s);
-    } else {
-      im.time = series.time(0);
-      im.approach_velocity = rate[0];
-      if (has_angle) im.crank_angle = WrapToTwoPi(angle[0]);
-    }
-    // Exit: δ crosses 0 between samples b−1 and b.
-    double t_exit = series.time(b - 1), power_exit = power(b - 1);
-    if (b < n) {
-      const double s = d[b - 1] / (d[b - 1] - d[b]);
-      t_exit = series.time(b - 1) + s * dt;
-      power_exit = Lerp(power(b - 1), power(b), s);
-    }
-    im.duration = t_exit - im.time;
-
-    for (std::size_t k = a; k < b; ++k) {
-      if (f[k] > im.peak_force) {
-        im.peak_force = f[k];
-        im.time_of_peak_force = series.time(k);
-      }
-      im.peak_penetration = std::max(im.peak_penetration, d[k]);
-    }
-    // Trapezoidal rule over (t_on, samples a..b−1, t_exit).
-    double energy = 0.5 * (power_on + power(a)) * (series.time(a) - im.time);
-    for (std::size_t k = a + 1; k < b; ++k) energy += 0.5 * (power(k - 1) + power(k)) * dt;
-    energy += 0.5 * (power(b - 1) + power_exit) * (t_exit - series.time(b - 1));
-    im.dissipated_energy = energy;
-    out.push_back(im);
+    started_ = true;
+    onsets_seen_ = p.onsets;
+  } else if (is_open_) {
+    open_.dissipated_energy += 0.5 * (last_.dissipation + p.dissipation) * (p.time - last_.time);
   }
-  return out;
+  if (is_open_) {
+    if (p.normal_force > open_.peak_force) {
+      open_.peak_force = p.normal_force;
+      open_.time_of_peak_force = p.time;
+    }
+    open_.peak_penetration = std::max(open_.peak_penetration, p.penetration);
+    if (!p.contact) Close(p.time, open_.complete);  // the located separation
+  }
+  last_ = p;
+}
+
+void ImpactLogger::Close(double t, bool complete) {
+  open_.duration = t - open_.time;
+  open_.complete = complete;
+  log_.push_back(open_);
+  is_open_ = false;
+}
+
+std::vector<Impact> ImpactLogger::Finish() {
+  if (is_open_) Close(last_.time, false);
+  return std::move(log_);
 }
 
 ImpactStatistics CalcImpactStatistics(const std::vector<Impact>& impacts) {

@@ -129,7 +129,9 @@ study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& 
   return out;
 }
 
-void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json) {
+/// The run's channels. `impacts` (clearance runs) also sees the contact at every sample.
+void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json,
+                    study::ImpactLogger* impacts) {
   const multibody::Mechanism& m = mm.mechanism;
   const auto conrod = mm.conrod;
   const int rod_theta = m.coordinate(conrod, multibody::kTheta);
@@ -175,8 +177,9 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
                 {"contact_normal_force", "N"},
                 {"contact_friction_force", "N"},
                 {"contact_dissipation", "W"}},
-               [joint = mm.clearance](const SampleView& s, double* v) {
+               [=, joint = mm.clearance](const SampleView& s, double* v) {
                  const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, joint);
+                 if (impacts) impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta), r));
                  v[0] = r.kinematics.eccentricity.x();
                  v[1] = r.kinematics.eccentricity.y();
                  v[2] = r.kinematics.eccentricity_norm;
@@ -455,7 +458,9 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
 
   Recorder rec;
   nlohmann::json gauges;
-  DefineChannels(cfg, mm, &rec, &gauges);
+  std::optional<study::ImpactLogger> impacts;  // clearance runs: every located contact event
+  if (mm.clearance.index >= 0) impacts.emplace();
+  DefineChannels(cfg, mm, &rec, &gauges, impacts ? &*impacts : nullptr);
   // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
   if (!ideal_joint) ReadCsvSelection(cfg, opt.sample_rate, &rec.names());
   multibody::RunData data(m);
@@ -466,12 +471,23 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   std::optional<study::VtkRecorder> vtk;
   if (vtk_options) vtk.emplace(cfg, mm, *vtk_options, rate);
   multibody::SimulationCallbacks cb;
+  double t_last_sample = 0.0;
   cb.on_sample = [&](const SampleView& s) {
     if (static_cast<long>(rec.size()) < max_samples) {
       if (vtk) vtk->Offer(static_cast<long>(rec.size()), s);
       rec.Record(s);
+      t_last_sample = s.t();
     }
   };
+  if (impacts) {
+    // The impact log also sees every integrator step and located event of the capture window
+    // (from its first sample to its last); the samples reach it through the channels.
+    cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
+      if (rec.size() == 0 || (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample)) return;
+      impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta),
+                                               multibody::CalcClearanceResponse(s, mm.clearance)));
+    };
+  }
 
   RunResult out;
   nlohmann::json steady;  // sim.start = steady: how the periodic state was found
@@ -543,8 +559,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
           " of its peak; a clearance joint's contact motion need not be periodic); the capture starts there");
     }
   }
-  if (mm.clearance.index >= 0 && out.channels.num_samples() > 2) {
-    out.impacts = study::FindImpacts(out.channels);
+  if (impacts && out.channels.num_samples() > 2) {
+    out.impacts = impacts->Finish();
     const study::ImpactStatistics st = study::CalcImpactStatistics(out.impacts);
     const auto th = out.channels.values("crank_angle");
     const double revs = (th.back() - th.front()) / (2.0 * std::numbers::pi);

@@ -9,9 +9,11 @@
 #define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "clearance_fixture.h"
 #include "contact/impact.h"
@@ -104,6 +106,47 @@ INSTANTIATE_TEST_SUITE_P(
       }
       return name;
     });
+
+}  // namespace
+}  // namespace flexrod::multibody
+
+namespace flexrod::multibody {
+namespace {
+
+// SimulationCallbacks::on_step sees the accepted steps, each located root (the joint's memory
+// already updated by OnRoot) and the stop at t_end, in time order with the samples.
+TEST(SimulationCallbacks, OnStepSeesTheStepsAndEveryEventInTimeOrderWithTheSamples) {
+  const contact::NormalLaw law = testing::RigLaw("hybrid", 0.9);
+  const testing::PinInBush p = testing::BuildPinInBush(law, std::nullopt, 1.0);
+  RunData data(p.model);
+  const double speed = 0.5, t_onset = testing::RigJointGeometry().clearance() / speed;
+  SimulationOptions opt;
+  opt.t_end = t_onset + 4e-4;
+  opt.sample_rate = 1e5;
+  std::vector<double> times;
+  long step_points = 0, onset_points = 0, separation_points = 0;
+  bool was_on = false;
+  SimulationCallbacks cb;
+  cb.on_sample = [&](const SampleView& s) { times.push_back(s.t()); };
+  cb.on_step = [&](const SampleView& s) {
+    times.push_back(s.t());
+    ++step_points;
+    const ClearanceResponse r = CalcClearanceResponse(s, p.joint);
+    onset_points += r.contact_flag && r.onset_time == s.t();
+    separation_points += was_on && !r.contact_flag && r.kinematics.penetration < 0.0 &&
+                         std::abs(r.kinematics.penetration + p.element->EventBand()) < 1e-3 * p.element->EventBand();
+    was_on = r.contact_flag;
+  };
+  const SimulationStatus st = Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), Vec2(speed, 0.0), 0.0), opt, cb);
+  ASSERT_TRUE(st.ok()) << st.Summary();
+  EXPECT_EQ(st.stats.roots_found, 2);  // onset and separation
+  EXPECT_EQ(onset_points, 1);
+  EXPECT_EQ(separation_points, 1);  // at δ = −b
+  // Every step but those a restart discards (at most one per root), and the stop.
+  EXPECT_GE(step_points, st.stats.steps - st.stats.roots_found + 1);
+  EXPECT_TRUE(std::is_sorted(times.begin(), times.end()));
+  EXPECT_DOUBLE_EQ(times.back(), opt.t_end);
+}
 
 }  // namespace
 }  // namespace flexrod::multibody
