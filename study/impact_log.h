@@ -43,7 +43,7 @@ ContactPoint MakeContactPoint(double time, double crank_angle, const multibody::
 struct Impact {
   double time{0.0};               ///< located onset (or the start of the log, if already in contact) [s]
   double crank_angle{0.0};        ///< at `time`, wrapped to [0, 2π) [rad]
-  double approach_velocity{0.0};  ///< δ̇ at the located onset [m/s]
+  double approach_velocity{0.0};  ///< δ̇ at `time`: the located onset, or the start of the log [m/s]
   double peak_force{0.0};         ///< max F_n over the impact's solution points [N]
   double time_of_peak_force{0.0}; ///< [s]
   double duration{0.0};           ///< located separation (or the end of the log) − time [s]
