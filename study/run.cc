@@ -502,8 +502,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     const double tolerance = std::clamp(1e3 * opt.integrator.rel_tol, 1e-6, 1e-2);
     multibody::ConsistentState state = multibody::ComputeConsistentState(m, &data, 0.0, ic);
     const double period = kTwoPi / cfg.Quantity("drive.speed");
-    const double to_index = std::fmod(std::fmod(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"),
-                                                kTwoPi) + kTwoPi, kTwoPi);
+    const double to_index = study::WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
     const double t_first_index = to_index * period / kTwoPi;
     const int q0 = m.coordinate(mm.conrod, multibody::kFirstMode);
     const int n = mm.rod->num_coordinates();

@@ -91,7 +91,7 @@ struct Synthetic {
   }
 };
 
-TEST(ImpactLog, OnsetApproachVelocityAndDurationAreTheLocatedEventsAndPeaksAndEnergyConverge) {
+TEST(ImpactLog, OnsetApproachVelocityAndDurationAreExactAtTheEventsPeaksAndEnergyWithinThePointSpacing) {
   const Synthetic s;
   // The record starts at 0.5T inside the first contact (started at t0) and ends at 6.5T inside
   // the fourth; the second and third (onsets t0 + 2T, t0 + 4T) are complete.
