@@ -149,6 +149,8 @@ class ClearanceJoint final : public ForceElement {
   bool relative_kinematics() const override { return true; }
   /// Normal-law state x_d: 1e-2·clearance [m]; LuGre z: μ_s/σ̂₀ [m].
   double StateScale(int k) const override;
+  /// The radial clearance: the pin's motion inside the bush.
+  double ResolvedLength() const override { return geometry_.clearance(); }
   std::string type_name() const override { return "clearance-joint"; }
 
   /// The joint's response for given marker kinematics, states z and memory (pure function;

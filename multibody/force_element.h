@@ -97,6 +97,10 @@ class ForceElement {
   /// Typical magnitude of state k: its finite-difference scale and its absolute-tolerance
   /// multiplier (abs_tol_z = abs_tol · StateScale(k)).
   virtual double StateScale(int /*k*/) const { return 1.0; }
+  /// Length scale of the relative motion the element must resolve [m] (0: none). The
+  /// relative tolerance of the coordinates that move its markers applies to this length, not
+  /// to their absolute values (MechanismDae::RelativeToleranceCaps).
+  virtual double ResolvedLength() const { return 0.0; }
   /// Short type name for messages ("spring-damper", "clearance-joint", ...).
   virtual std::string type_name() const = 0;
 };

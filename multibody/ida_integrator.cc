@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <algorithm>
 
 #include <ida/ida.h>
@@ -127,6 +128,10 @@ void DaeSystem::AbsoluteToleranceScales(double* scales) const {
   for (int i = 0; i < size(); ++i) scales[i] = 1.0;
 }
 
+void DaeSystem::RelativeToleranceCaps(double* caps) const {
+  for (int i = 0; i < size(); ++i) caps[i] = std::numeric_limits<double>::infinity();
+}
+
 void DaeSystem::StepScaledWeightMask(double* mask) const {
   DifferentialMask(mask);
   for (int i = 0; i < size(); ++i) mask[i] = mask[i] == 0.0 ? 1.0 : 0.0;
@@ -211,6 +216,7 @@ struct IdaIntegrator::Impl {
   void* mem{nullptr};
   N_Vector y{nullptr}, yp{nullptr}, id{nullptr}, atol{nullptr}, tmp{nullptr}, tmp2{nullptr};
   std::vector<double> step_scaled;  // 1 where the error weight is multiplied by h
+  std::vector<double> rel_caps;     // DaeSystem::RelativeToleranceCaps
   SUNMatrix A{nullptr};
   SUNLinearSolver LS{nullptr};
   SUNNonlinearSolver NLS{nullptr};
@@ -335,7 +341,8 @@ static int IdaRoots(realtype t, N_Vector y, N_Vector yp, realtype* g, void* user
   }
 }
 
-// ewt_i = 1/(rtol |y_i| + atol_i), times h for the step-scaled unknowns (IntegratorOptions).
+// ewt_i = 1/(rtol min(|y_i|, cap_i) + atol_i) (DaeSystem::RelativeToleranceCaps), times h for the
+// step-scaled unknowns (IntegratorOptions).
 static int IdaErrorWeights(N_Vector y, N_Vector ewt, void* user) {
   auto* impl = static_cast<IdaIntegrator::Impl*>(user);
   const double* yv = NV_DATA_S(y);
@@ -355,7 +362,7 @@ static int IdaErrorWeights(N_Vector y, N_Vector ewt, void* user) {
   }
   impl->weights_step_scale = alg;
   for (int i = 0; i < impl->n; ++i) {
-    const double d = impl->rel_tol * std::abs(yv[i]) + atol[i];
+    const double d = impl->rel_tol * std::min(std::abs(yv[i]), impl->rel_caps[i]) + atol[i];
     if (!(d > 0.0) || !std::isfinite(d)) return -1;
     w[i] = (scaled[i] != 0.0 ? alg : 1.0) / d;
   }
@@ -497,6 +504,8 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   I.step_scaled.assign(n, 0.0);
   system_->StepScaledWeightMask(I.step_scaled.data());
   system_->AbsoluteToleranceScales(NV_DATA_S(I.atol));
+  I.rel_caps.assign(n, 0.0);
+  system_->RelativeToleranceCaps(I.rel_caps.data());
   for (int i = 0; i < n; ++i) NV_DATA_S(I.atol)[i] *= options_.abs_tol;
 
   I.mem = CheckPointer(IDACreate(I.ctx), "IDACreate");

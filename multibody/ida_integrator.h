@@ -42,6 +42,9 @@ class DaeSystem {
   virtual void StepScaledWeightMask(double* mask) const;
   /// Per-unknown multiplier of the absolute tolerance (default 1).
   virtual void AbsoluteToleranceScales(double* scales) const;
+  /// Per-unknown cap on the magnitude the relative tolerance applies to: the error weight is
+  /// 1/(rel_tol·min(|y_i|, cap_i) + abs_tol_i). Default +∞ (IDA's rule).
+  virtual void RelativeToleranceCaps(double* caps) const;
   virtual int Residual(double t, const double* y, const double* yp, double* r) = 0;
   /// Adds dF/dy + cj dF/dẏ into the zeroed column-major N×N array jac.
   virtual int Jacobian(double t, double cj, const double* y, const double* yp, double* jac) = 0;

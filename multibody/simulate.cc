@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -366,6 +367,23 @@ void MechanismDae::AbsoluteToleranceScales(double* scales) const {
   Vec full(model_.size());
   multibody::AbsoluteToleranceScales(model_, velocity_tol_scale_, energy_tol_scale_, full.data());
   prescribed_.Reduce(full.data(), scales);
+}
+
+void MechanismDae::RelativeToleranceCaps(double* caps) const {
+  Vec full = Vec::Constant(model_.size(), std::numeric_limits<double>::infinity());
+  for (const ElementSlot& e : model_.elements()) {
+    const double L = e.element->ResolvedLength();
+    if (!(L > 0.0)) continue;
+    for (int mi : {e.marker_i, e.marker_j}) {
+      const Marker& mk = model_.markers()[mi];
+      if (mk.body < 0) continue;
+      const Body& b = model_.bodies()[mk.body];
+      for (int slot : {kX, kY}) full[b.coordinate(slot)] = std::min(full[b.coordinate(slot)], L);
+      const double arm = mk.position.norm();
+      if (arm > 0.0) full[b.coordinate(kTheta)] = std::min(full[b.coordinate(kTheta)], L / arm);
+    }
+  }
+  prescribed_.Reduce(full.data(), caps);
 }
 
 int MechanismDae::Residual(double t, const double* y, const double* yp, double* r) {

@@ -85,6 +85,9 @@ class MechanismDae final : public DaeSystem {
   /// The multipliers λ, μ (index 2); not the energy quadratures.
   void StepScaledWeightMask(double* mask) const override;
   void AbsoluteToleranceScales(double* scales) const override;
+  /// Coordinates that move a marker of an element with a resolved length L
+  /// (ForceElement::ResolvedLength): L for the frame position, L/|ū₀| for the frame angle.
+  void RelativeToleranceCaps(double* caps) const override;
   int Residual(double t, const double* y, const double* yp, double* r) override;
   int Jacobian(double t, double cj, const double* y, const double* yp, double* jac) override;
   SparsityPattern JacobianPattern() const override;

@@ -13,11 +13,15 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <vector>
 
 #include "clearance_fixture.h"
 #include "multibody/clearance_joint.h"
+#include "multibody/prescribed.h"
+#include "multibody/run_data.h"
+#include "multibody/simulate.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -305,6 +309,37 @@ TEST(ClearanceElement, OnsetRecordsTheFlooredApproachVelocityAndResetsTheStates)
   EXPECT_NEAR(mp.m[kMaxPenetration], 1e-6, 1e-15);
   EXPECT_NEAR(mp.m[kMaxForce], ep.stiffness * std::pow(1e-6, ep.exponent),
               1e-9 * mp.m[kMaxForce]);
+}
+
+// The relative tolerance of the coordinates that move the joint's markers refers to the
+// clearance (ForceElement::ResolvedLength), not to their absolute values: frame positions of
+// the bush and pin bodies c, the bush body's angle c / |ū| (its marker 0.3 m from the frame
+// origin), the pin body's angle (marker at its origin) and every other unknown uncapped.
+TEST(ClearanceJoint, CapsTheRelativeToleranceOfTheCoordinatesThatMoveItsMarkersAtTheClearance) {
+  MechanismBuilder b;
+  const BodyId rod = b.AddRigidBody({"rod", 0.5, 4e-3, Vec2::Zero()});
+  const BodyId slider = b.AddRigidBody({"slider", 1.0, 1e-4, Vec2::Zero()});
+  const MarkerId bush = b.AddBodyMarker(rod, "bush", Vec2(0.3, 0.0));
+  const MarkerId pin = b.AddBodyMarker(slider, "pin", Vec2::Zero());
+  const auto joint = std::make_shared<const ClearanceJoint>(RigJointGeometry(), RigLaw("hybrid", 0.9), std::nullopt);
+  b.AddForceElement("clearance", bush, pin, joint);
+  const Mechanism m = b.Build();
+  RunData data(m);
+  PrescribedMotion pm(m, false);
+  MechanismDae dae(m, &data, pm, std::nullopt);
+  ASSERT_EQ(dae.size(), m.size());
+  std::vector<double> caps(m.size());
+  dae.RelativeToleranceCaps(caps.data());
+  const double c = RigJointGeometry().clearance();
+  EXPECT_DOUBLE_EQ(joint->ResolvedLength(), c);
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m.size(); ++i) {
+    double expected = inf;
+    if (i == m.coordinate(rod, kX) || i == m.coordinate(rod, kY)) expected = c;
+    if (i == m.coordinate(slider, kX) || i == m.coordinate(slider, kY)) expected = c;
+    if (i == m.coordinate(rod, kTheta)) expected = c / 0.3;
+    EXPECT_EQ(caps[i], expected) << m.VariableName(i);
+  }
 }
 
 }  // namespace

@@ -2,12 +2,15 @@
 // mechanism: a harmonic oscillator written as an index-1 DAE (x' = v, v' = a, 0 = a + ω²x)
 // follows cos ωt; its root function locates x = 0 at (k + ½)π/ω; the cached step polynomial
 // reproduces IDAGetDky; re-initialisation keeps the statistics; the sparse (KLU) path gives
-// the dense result; bad options are rejected.
+// the dense result; a cap on the magnitude the relative tolerance applies to resolves a small
+// motion at a large offset; bad options are rejected.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -58,6 +61,25 @@ class Oscillator final : public DaeSystem {
     return 0;
   }
   long residuals{0};
+};
+
+// x' = A ω cos ωt, x(0) = X: x = X + A sin ωt, a small motion at a large offset (a pin moving
+// inside a bush far from the origin). `x_cap` caps |x| for the relative tolerance.
+class OffsetMotion final : public DaeSystem {
+ public:
+  static constexpr double kAmplitude = 1e-3, kOffset = 1.0;
+  int size() const override { return 1; }
+  void DifferentialMask(double* id) const override { id[0] = 1.0; }
+  void RelativeToleranceCaps(double* caps) const override { caps[0] = x_cap; }
+  int Residual(double t, const double*, const double* yp, double* r) override {
+    r[0] = yp[0] - kAmplitude * kOmega * std::cos(kOmega * t);
+    return 0;
+  }
+  int Jacobian(double, double cj, const double*, const double*, double* J) override {
+    J[0] = cj;
+    return 0;
+  }
+  double x_cap{std::numeric_limits<double>::infinity()};
 };
 
 IntegratorOptions Tight(LinearSolverKind kind = LinearSolverKind::kDense) {
@@ -124,6 +146,41 @@ TEST(IdaIntegrator, KluPathGivesTheDenseResult) {
   const double e2 = RunOscillator(LinearSolverKind::kKlu, 2.0, &r2, &s2);
   EXPECT_NEAR(e1, e2, 1e-12);
   EXPECT_EQ(s1.steps, s2.steps);
+}
+
+// x = X + A sin ωt with X = 1000 A: IDA's relative tolerance on |x| ≈ X allows an error of
+// rel_tol·X = 1e-3 A per step. Capping |x| at A (DaeSystem::RelativeToleranceCaps) refers the
+// tolerance to the motion, not to the offset, and the error drops by orders of magnitude.
+TEST(IdaIntegrator, ARelativeToleranceCapResolvesASmallMotionAtALargeOffset) {
+  constexpr double kAmplitude = OffsetMotion::kAmplitude, kOffset = OffsetMotion::kOffset;
+  auto worst_error = [&](double cap, long* steps) {
+    OffsetMotion dae;
+    dae.x_cap = cap;
+    IntegratorOptions o;
+    o.rel_tol = 1e-6;
+    o.abs_tol = 1e-12;
+    IdaIntegrator ida(&dae, o);
+    const double y0[1] = {kOffset};
+    const double yp0[1] = {kAmplitude * kOmega};
+    ida.Initialize(0.0, y0, yp0);
+    ida.SetStopTime(4.0);
+    double worst = 0.0;
+    for (;;) {
+      const StepResult r = ida.Step(4.0);
+      worst = std::max(worst, std::abs(ida.y()[0] - kOffset - kAmplitude * std::sin(kOmega * r.t)));
+      if (r.outcome == StepOutcome::kStopTime) break;
+    }
+    *steps = ida.stats().steps;
+    return worst / kAmplitude;
+  };
+  long steps_plain = 0, steps_capped = 0;
+  const double plain = worst_error(std::numeric_limits<double>::infinity(), &steps_plain);
+  const double capped = worst_error(kAmplitude, &steps_capped);
+  std::printf("offset motion: error / amplitude %.3g plain (%ld steps), %.3g capped (%ld steps)\n", plain,
+              steps_plain, capped, steps_capped);
+  EXPECT_GT(plain, 1e-4);
+  EXPECT_LT(capped, 5e-5);  // observed 5.75e-3 plain, 1.13e-5 capped
+  EXPECT_GT(steps_capped, steps_plain);
 }
 
 // The Taylor form of the last step's interpolant equals IDAGetDky (value and derivative).
