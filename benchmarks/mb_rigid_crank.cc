@@ -100,6 +100,7 @@ void Run(const std::string& label, const Crank& c, double t_end, double rel_tol,
   opt.integrator.rel_tol = rel_tol;
   opt.integrator.abs_tol = 1e-2 * rel_tol;
   opt.integrator.linear_solver = solver;
+  opt.integrator.time_calls = true;  // the time shares below
   const int ix = c.model.coordinate(c.slider, kX);
   // A realistic observer: slider position/velocity/acceleration and driver torque per sample.
   std::vector<double> x, xd, xdd, torque;

@@ -6,12 +6,12 @@
 #include "multibody/dae.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
 
 #include "common/error.h"
+#include "common/scope_timer.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -22,26 +22,6 @@ using JacMap = Eigen::Map<Mat, 0, Eigen::OuterStride<>>;
 
 // cbrt(machine epsilon): optimal relative step of a central difference.
 const double kFdStep = std::cbrt(std::numeric_limits<double>::epsilon());
-
-/// Adds the wall time of its scope to *seconds when `on` (RunData::time_elements).
-class ElementTimer {
- public:
-  ElementTimer(bool on, double* seconds) : seconds_(on ? seconds : nullptr) {
-    if (seconds_) start_ = std::chrono::steady_clock::now();
-  }
-  ~ElementTimer() {
-    if (seconds_) *seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  ElementTimer(const ElementTimer&) = delete;
-  ElementTimer& operator=(const ElementTimer&) = delete;
-
- private:
-  double* seconds_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }   // J a
-inline Vec2 JTm(const Vec2& a) { return Vec2(a.y(), -a.x()); }  // Jᵀ a
 
 // ---- body level -------------------------------------------------------------------------------
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
@@ -643,7 +623,7 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
     }
     const MarkerKinematics& ki = data->markers[e.marker_i].kin;
     const MarkerKinematics& kj = data->markers[e.marker_j].kin;
-    const ElementTimer timer(data->time_elements, &es.seconds);
+    const ScopeTimer timer(data->time_elements ? &es.seconds : nullptr);
     if (!e.element->Evaluate(t, ki, kj, z + e.state_offset, memory + e.memory_offset, &es.out)) {
       return 1;
     }
@@ -838,7 +818,7 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
   for (size_t ei = 0; ei < elements.size(); ++ei) {
     const ElementSlot& e = elements[ei];
     ElementScratch& es = data->elements[ei];
-    const ElementTimer timer(data->time_elements, &es.seconds);
+    const ScopeTimer timer(data->time_elements ? &es.seconds : nullptr);
     const int ns = e.num_states;
     const int marker[2] = {e.marker_i, e.marker_j};
     const int body[2] = {BodyOf(model, e.marker_i), BodyOf(model, e.marker_j)};

@@ -4,7 +4,6 @@
 #include "multibody/ida_integrator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -21,20 +20,16 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "common/scope_timer.h"
+
 namespace flexrod::multibody {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Step-size stand-in [s] for the algebraic error weights before IDA has chosen its first step.
 constexpr double kFirstStepAlgebraicScale = 1e-9;
 // Lower bound of a Newton rate factor ss = ρ/(1 − ρ) carried over between solves
 // (IdaNewtonConvTest).
 constexpr double kCarriedRateFloor = 3e-2;
-
-double Seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
 
 void CheckFlag(int flag, const char* call) {
   if (flag < 0) {
@@ -64,7 +59,7 @@ SUNLinearSolver_Type TimedGetType(SUNLinearSolver S) {
 SUNLinearSolver_ID TimedGetId(SUNLinearSolver S) { return SUNLinSolGetID(Content(S)->inner); }
 int TimedInitialize(SUNLinearSolver S) { return SUNLinSolInitialize(Content(S)->inner); }
 int TimedSetup(SUNLinearSolver S, SUNMatrix A) {
-  const auto t0 = Clock::now();
+  const ScopeTimer timer(Content(S)->seconds);
   int rc = SUNLinSolSetup(Content(S)->inner, A);
   if (rc == SUNLS_PACKAGE_FAIL_REC && Content(S)->klu) {
     // SUNDIALS' KLU set-up re-factors with the pivot sequence of the last full factorisation
@@ -78,14 +73,11 @@ int TimedSetup(SUNLinearSolver S, SUNMatrix A) {
       rc = SUNLinSolSetup(Content(S)->inner, A);
     }
   }
-  *Content(S)->seconds += Seconds(t0, Clock::now());
   return rc;
 }
 int TimedSolve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, realtype tol) {
-  const auto t0 = Clock::now();
-  const int rc = SUNLinSolSolve(Content(S)->inner, A, x, b, tol);
-  *Content(S)->seconds += Seconds(t0, Clock::now());
-  return rc;
+  const ScopeTimer timer(Content(S)->seconds);
+  return SUNLinSolSolve(Content(S)->inner, A, x, b, tol);
 }
 sunindextype TimedLastFlag(SUNLinearSolver S) { return SUNLinSolLastFlag(Content(S)->inner); }
 int TimedSpace(SUNLinearSolver S, long* lrw, long* liw) {
@@ -229,6 +221,7 @@ struct IdaIntegrator::Impl {
   bool sparse{false};
   SparsityPattern pattern;
   std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
+  bool time_calls{false};  // IntegratorOptions::time_calls
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -272,10 +265,8 @@ extern "C" {
 static int IdaResidual(realtype t, N_Vector y, N_Vector yp, N_Vector r, void* user) {
   auto* impl = static_cast<IdaIntegrator::Impl*>(user);
   try {
-    const auto t0 = Clock::now();
-    const int rc = impl->system->Residual(t, NV_DATA_S(y), NV_DATA_S(yp), NV_DATA_S(r));
-    impl->residual_seconds += Seconds(t0, Clock::now());
-    return rc;
+    const ScopeTimer timer(impl->time_calls ? &impl->residual_seconds : nullptr);
+    return impl->system->Residual(t, NV_DATA_S(y), NV_DATA_S(yp), NV_DATA_S(r));
   } catch (...) {
     impl->pending = std::current_exception();
     return -1;
@@ -288,7 +279,7 @@ static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vecto
   impl->newton_rate_factor = 20.0;  // a fresh iteration matrix (IdaNewtonConvTest)
   impl->newton_fresh_setup = true;
   try {
-    const auto t0 = Clock::now();
+    const ScopeTimer timer(impl->time_calls ? &impl->jacobian_seconds : nullptr);
     const int n = impl->n;
     int rc = 0;
     if (!impl->sparse) {
@@ -323,7 +314,6 @@ static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vecto
         }
       }
     }
-    impl->jacobian_seconds += Seconds(t0, Clock::now());
     return rc;
   } catch (...) {
     impl->pending = std::current_exception();
@@ -552,7 +542,8 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
     I.A = CheckPointer(SUNDenseMatrix(n, n, I.ctx), "SUNDenseMatrix");
     inner = CheckPointer(SUNLinSol_Dense(I.y, I.A, I.ctx), "SUNLinSol_Dense");
   }
-  I.LS = MakeTimedSolver(inner, &I.linear_seconds, I.ctx);
+  I.time_calls = options_.time_calls;
+  I.LS = MakeTimedSolver(inner, I.time_calls ? &I.linear_seconds : nullptr, I.ctx);
   CheckFlag(IDASetLinearSolver(I.mem, I.LS, I.A), "IDASetLinearSolver");
   CheckFlag(IDASetJacFn(I.mem, IdaJacobian), "IDASetJacFn");
   const int nr = system_->num_roots();

@@ -23,6 +23,10 @@
 
 namespace flexrod::multibody {
 
+// J = [[0, −1], [1, 0]], the rotation by +90° of ffrf-planar.md (dA/dt = A J θ̇).
+inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }   ///< J a
+inline Vec2 JTm(const Vec2& a) { return Vec2(a.y(), -a.x()); }  ///< Jᵀ a
+
 // ---- typed indices --------------------------------------------------------------------------
 struct BodyId {
   int index{-1};  ///< −1 is the ground

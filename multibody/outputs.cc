@@ -11,7 +11,6 @@
 namespace flexrod::multibody {
 namespace {
 using CMap = Eigen::Map<const Vec>;
-inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }
 }  // namespace
 
 const MarkerKinematics& MarkerState(const RunData& data, MarkerId marker) {

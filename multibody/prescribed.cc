@@ -9,7 +9,6 @@
 namespace flexrod::multibody {
 namespace {
 
-inline Vec2 Jm(const Vec2& a) { return Vec2(-a.y(), a.x()); }  // J a
 using Rotation = Eigen::Rotation2Dd;
 
 }  // namespace

@@ -266,8 +266,10 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
   return o;
 }
 
-nlohmann::json StatusJson(const multibody::SimulationStatus& st) {
-  return {{"outcome", multibody::ToString(st.outcome)},
+/// The integrator's status and counters; with `profiled` (RunOutputOptions::profile) also the
+/// wall time of its residuals, Jacobians and linear solves.
+nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) {
+  nlohmann::json j = {{"outcome", multibody::ToString(st.outcome)},
           {"t_reached [s]", st.t_reached},
           {"message", st.message},
           {"hint", st.hint},
@@ -282,10 +284,13 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st) {
           {"linear_solver", multibody::ToString(st.linear_solver)},
           {"unknowns", st.unknowns},
           {"wall_time [s]", st.wall_seconds},
-          {"residual_time [s]", st.stats.residual_seconds},
-          {"jacobian_time [s]", st.stats.jacobian_seconds},
-          {"linear_solve_time [s]", st.stats.linear_solve_seconds},
           {"output_time [s]", st.output_seconds}};
+  if (profiled) {
+    j["residual_time [s]"] = st.stats.residual_seconds;
+    j["jacobian_time [s]"] = st.stats.jacobian_seconds;
+    j["linear_solve_time [s]"] = st.stats.linear_solve_seconds;
+  }
+  return j;
 }
 
 nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const MechanismModel& mm) {
@@ -392,7 +397,7 @@ namespace {
 
 RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
                  MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr,
-                 bool time_elements = false) {
+                 bool profile = false) {
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
@@ -453,7 +458,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   opt.sample_start = opt.start_sampling_at_index ? settle : t_capture_start;
   opt.t_end = t_capture_start + capture;
   if (!mm.is_pendulum && cfg.Text("drive.type") != "constant") opt.t_end += 1.0;  // wait for the index
-  opt.time_elements = time_elements;
+  opt.time_elements = profile;
+  opt.integrator.time_calls = profile;
   opt.Validate(m);
 
   Recorder rec;
@@ -576,8 +582,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
       out.summary["joint_parameters"][p.name] = {{"value", p.value}, {"unit", p.unit}, {"source", p.source}};
     }
   }
-  out.summary["integrator"] = StatusJson(out.status);
-  for (size_t e = 0; e < out.status.element_seconds.size(); ++e) {  // RunOutputOptions::time_elements
+  out.summary["integrator"] = StatusJson(out.status, profile);
+  for (size_t e = 0; e < out.status.element_seconds.size(); ++e) {  // RunOutputOptions::profile
     nlohmann::json& t = out.summary["integrator"]["element_time [s]"][m.elements()[e].element->type_name()];
     t = (t.is_null() ? 0.0 : t.get<double>()) + out.status.element_seconds[e];
   }
@@ -634,7 +640,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
   }
   MechanismModel mm;
-  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr, outputs.time_elements);
+  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr, outputs.profile);
   if (out.vtk && !outputs.vtk_dir.empty()) out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
   if (!clearance || out.channels.num_samples() < 3) return out;

@@ -71,9 +71,12 @@ struct RunOutputOptions {
   /// it). The vtk.* keys and the directory (it must exist or be creatable) are checked before
   /// any work starts; the directory is created only when the frames are written.
   std::string vtk_dir;
-  /// Time each force element (multibody::SimulationOptions::time_elements) and report the
-  /// seconds per element type in summary["integrator"]["element_time [s]"].
-  bool time_elements{false};
+  /// Profile the run (not its twin): time each force element (multibody::SimulationOptions::
+  /// time_elements) and the integrator's residuals, Jacobians and linear solves
+  /// (IntegratorOptions::time_calls), and report them in summary["integrator"]
+  /// ("element_time [s]" per element type, "residual_time [s]", "jacobian_time [s]",
+  /// "linear_solve_time [s]"). Off by default: the clock reads cost a few percent.
+  bool profile{false};
   /// Share the ideal-joint twin with the other runs using this cache (nullptr: compute it).
   /// summary["ideal"]["reused"] says whether the twin came from an earlier run.
   TwinCache* twins{nullptr};

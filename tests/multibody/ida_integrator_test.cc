@@ -99,9 +99,11 @@ void StartOnCosine(IdaIntegrator* ida) {
 
 // Integrates to t_end, returning the max |x − cos ωt| over steps and the root times.
 double RunOscillator(LinearSolverKind kind, double t_end, std::vector<double>* roots,
-                     IntegratorStats* stats) {
+                     IntegratorStats* stats, bool time_calls = false) {
   Oscillator dae;
-  IdaIntegrator ida(&dae, Tight(kind));
+  IntegratorOptions options = Tight(kind);
+  options.time_calls = time_calls;
+  IdaIntegrator ida(&dae, options);
   EXPECT_EQ(ida.linear_solver(), kind);
   StartOnCosine(&ida);
   ida.SetStopTime(t_end);
@@ -123,7 +125,19 @@ TEST(IdaIntegrator, HarmonicOscillatorDaeFollowsCosine) {
   EXPECT_LE(err, 1e-7);
   EXPECT_GT(stats.steps, 10);
   EXPECT_GT(stats.residual_evaluations, stats.steps);
-  EXPECT_GT(stats.residual_seconds, 0.0);
+}
+
+TEST(IdaIntegrator, TimesItsCallsOnlyWhenAsked) {
+  std::vector<double> roots;
+  IntegratorStats plain, timed;
+  RunOscillator(LinearSolverKind::kDense, 1.0, &roots, &plain);
+  EXPECT_EQ(plain.residual_seconds, 0.0);
+  EXPECT_EQ(plain.jacobian_seconds, 0.0);
+  EXPECT_EQ(plain.linear_solve_seconds, 0.0);
+  RunOscillator(LinearSolverKind::kDense, 1.0, &roots, &timed, /*time_calls=*/true);
+  EXPECT_GT(timed.residual_seconds, 0.0);
+  EXPECT_GT(timed.jacobian_seconds, 0.0);
+  EXPECT_GT(timed.linear_solve_seconds, 0.0);
 }
 
 // x = cos ωt vanishes at t_k = (k + ½)π/ω.
