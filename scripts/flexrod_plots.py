@@ -46,8 +46,7 @@ def plot_run(directory):
     need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
     cols = read_csv(os.path.join(directory, "channels.csv"),
                     need + ("time [s]", "journal_eccentricity [m]", "journal_eccentricity_x [m]",
-                            "journal_eccentricity_y [m]", "bearing_force [N]", "contact_normal_force [N]",
-                            "contact_friction_force [N]", "strain_"))
+                            "journal_eccentricity_y [m]", "bearing_force [N]", "strain_"))
     ideal_path = os.path.join(directory, "ideal", "channels.csv")
     ideal = read_csv(ideal_path, need) if os.path.exists(ideal_path) else None
     # A run's CSV may hold a selection of channels (output.channels): draw what it has.
@@ -220,14 +219,8 @@ def plot_run_analysis(directory, cols):
         ax.set_ylabel("eccentricity y [mm]")
         ax.legend(loc="upper right", fontsize=8)
         save(fig, os.path.join(directory, "journal_orbit.png"))
-    force = None
-    if "bearing_force [N]" in cols:
+    if "bearing_force [N]" in cols:  # |force on the bush|: ideal reaction or contact force
         force = np.asarray(cols["bearing_force [N]"])
-    elif "contact_normal_force [N]" in cols:
-        fn = np.asarray(cols["contact_normal_force [N]"])
-        ft = np.asarray(cols.get("contact_friction_force [N]", [0.0] * len(fn)))
-        force = np.hypot(fn, ft)
-    if force is not None:
         fig, ax = plt.subplots(figsize=(9, 4.5))
         ax.plot(np.degrees(np.mod(theta, 2 * np.pi)), force, ",")
         ax.set_xlim(0, 360)

@@ -31,6 +31,15 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
 /// Channel recorder, filled in the capture window. Channels come in groups: a group's function
 /// writes the values of all its channels for one sample, so what they share (a joint reaction,
 /// the contact response, the energies) is computed once, with one call per group.
+/// Extremes and sum of squares of one channel's samples, gathered as they are recorded (the
+/// summary then needs no second pass over a record of tens of MB).
+struct ChannelStats {
+  double min{std::numeric_limits<double>::infinity()};
+  double max{-std::numeric_limits<double>::infinity()};
+  double sum_squares{0.0};
+  double peak_abs() const { return std::max(max, -min); }
+};
+
 class Recorder {
  public:
   struct Spec {
@@ -46,15 +55,25 @@ class Recorder {
     }
     values_.resize(names_.size());
     row_.resize(names_.size());
+    stats_.resize(names_.size());
   }
   void Record(const SampleView& s) {
     if (size_ == 0) first_t_ = s.t();
     for (const Group& g : groups_) g.fn(s, row_.data() + g.first);
-    for (size_t c = 0; c < row_.size(); ++c) values_[c].push_back(row_[c]);
+    for (size_t c = 0; c < row_.size(); ++c) {
+      const double v = row_[c];
+      values_[c].push_back(v);
+      ChannelStats& st = stats_[c];
+      st.min = std::min(st.min, v);
+      st.max = std::max(st.max, v);
+      st.sum_squares += v * v;
+    }
     ++size_;
   }
   size_t size() const { return size_; }
   const std::vector<std::string>& names() const { return names_; }
+  /// Per channel, in the order of names() (and of the TimeSeries Finish builds).
+  const std::vector<ChannelStats>& stats() const { return stats_; }
   void Reserve(size_t n) {
     for (auto& v : values_) v.reserve(n);
   }
@@ -72,6 +91,7 @@ class Recorder {
   std::vector<std::string> names_, units_;
   std::vector<Group> groups_;
   std::vector<std::vector<double>> values_;
+  std::vector<ChannelStats> stats_;
   std::vector<double> row_;  // one sample of every channel
   size_t size_{0};
   double first_t_{0.0};
@@ -176,7 +196,8 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
                 {"penetration_rate", "m/s"},
                 {"contact_normal_force", "N"},
                 {"contact_friction_force", "N"},
-                {"contact_dissipation", "W"}},
+                {"contact_dissipation", "W"},
+                {"bearing_force", "N"}},
                [=, joint = mm.clearance](const SampleView& s, double* v) {
                  const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, joint);
                  if (impacts) impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta), r));
@@ -188,6 +209,7 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
                  v[5] = r.normal_force;
                  v[6] = r.friction_force;
                  v[7] = r.dissipation();
+                 v[8] = std::hypot(r.normal_force, r.friction_force);  // |force on the bush|
                });
     }
   } else {
@@ -293,58 +315,54 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
   return j;
 }
 
-nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const MechanismModel& mm) {
+/// Per-revolution statistics of a slider-crank record's channel: x over the record's revolutions.
+nlohmann::json SignalSummaryJson(const study::SignalSummary& a, const std::string& unit) {
+  return {{"unit", unit},
+          {"peak_positive", a.peak_positive},
+          {"peak_negative", a.peak_negative},
+          {"rms", a.rms},
+          {"revolutions", a.positive.num_revolutions},
+          {"per_revolution_positive", {{"median", a.positive.median}, {"p95", a.positive.p95}, {"max", a.positive.max}}},
+          {"per_revolution_negative", {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}},
+          {"per_revolution_abs", {{"median", a.magnitude.median}, {"p95", a.magnitude.p95}, {"max", a.magnitude.max}}}};
+}
+
+/// The run's summary from its record, the record's running channel statistics (Recorder::stats,
+/// in channel order) and its slider acceleration statistics (slider-cranks).
+nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& stats, const Config& cfg,
+                         const MechanismModel& mm) {
+  const study::TimeSeries& ts = run.channels;
   nlohmann::json s;
   if (ts.num_samples() == 0) return s;
-  const double index_angle = cfg.Quantity("sim.index_angle");
-  for (const study::Channel& c : ts.channels()) {
-    // Four independent lanes: one dependency chain per lane instead of one per sample.
-    double peak[4] = {0.0, 0.0, 0.0, 0.0}, sq[4] = {0.0, 0.0, 0.0, 0.0};
-    const std::size_t n = c.values.size();
-    std::size_t i = 0;
-    for (; i + 4 <= n; i += 4) {
-      for (int l = 0; l < 4; ++l) {
-        const double v = c.values[i + l];
-        peak[l] = std::max(peak[l], std::abs(v));
-        sq[l] += v * v;
-      }
+  FLEXROD_ASSERT(stats.size() == ts.num_channels());
+  auto stat = [&](std::string_view name) -> const ChannelStats& {
+    for (size_t c = 0; c < stats.size(); ++c) {
+      if (ts.channels()[c].name == name) return stats[c];
     }
-    for (; i < n; ++i) {
-      peak[0] = std::max(peak[0], std::abs(c.values[i]));
-      sq[0] += c.values[i] * c.values[i];
-    }
-    const double peak_abs = std::max(std::max(peak[0], peak[1]), std::max(peak[2], peak[3]));
-    const double rms = std::sqrt(((sq[0] + sq[1]) + (sq[2] + sq[3])) / static_cast<double>(n));
-    s["channels"][c.name] = {{"unit", c.unit}, {"peak_abs", peak_abs}, {"rms", rms}};
+    throw std::logic_error("Summarise: no channel " + std::string(name));
+  };
+  for (size_t c = 0; c < stats.size(); ++c) {
+    const study::Channel& ch = ts.channels()[c];
+    s["channels"][ch.name] = {{"unit", ch.unit},
+                              {"peak_abs", stats[c].peak_abs()},
+                              {"rms", std::sqrt(stats[c].sum_squares / static_cast<double>(ts.num_samples()))}};
   }
   if (!mm.is_pendulum && ts.num_samples() > 2) {
     // Crank speed over the capture: the mean from the angle advanced (exact for any sampling),
     // the extremes from the samples. A motor drive droops and fluctuates; the others hold it.
-    const auto th = ts.values("crank_angle"), w = ts.values("crank_speed");
+    const auto th = ts.values("crank_angle");
     const double duration = static_cast<double>(ts.num_samples() - 1) / ts.sample_rate();
-    const auto [lo, hi] = std::minmax_element(w.begin(), w.end());
     s["crank_speed"] = {{"mean [rad/s]", (th.back() - th.front()) / duration},
-                        {"min [rad/s]", *lo},
-                        {"max [rad/s]", *hi},
+                        {"min [rad/s]", stat("crank_speed").min},
+                        {"max [rad/s]", stat("crank_speed").max},
                         {"set [rad/s]", cfg.Text("drive.type") == "profile" ? nlohmann::json(nullptr)
                                                                             : nlohmann::json(cfg.Quantity("drive.speed"))}};
-    const study::SignalSummary a =
-        study::CalcSignalSummary(ts, "slider_acceleration", "crank_angle", index_angle, ts.all());
-    s["slider_acceleration"] = {{"unit", "m/s^2"},
-                                {"peak_positive", a.peak_positive},
-                                {"peak_negative", a.peak_negative},
-                                {"rms", a.rms},
-                                {"revolutions", a.positive.num_revolutions},
-                                {"per_revolution_positive", {{"median", a.positive.median}, {"p95", a.positive.p95}, {"max", a.positive.max}}},
-                                {"per_revolution_negative", {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}},
-                                {"per_revolution_abs", {{"median", a.magnitude.median}, {"p95", a.magnitude.p95}, {"max", a.magnitude.max}}}};
+    if (run.slider_acceleration) s["slider_acceleration"] = SignalSummaryJson(*run.slider_acceleration, "m/s^2");
   }
   if (mm.rod) {
     double peak_stress = 0.0;
-    for (const study::Channel& c : ts.channels()) {
-      if (c.name.rfind("stress_", 0) == 0) {
-        for (double v : c.values) peak_stress = std::max(peak_stress, std::abs(v));
-      }
+    for (size_t c = 0; c < stats.size(); ++c) {
+      if (ts.channels()[c].name.rfind("stress_", 0) == 0) peak_stress = std::max(peak_stress, stats[c].peak_abs());
     }
     const double yield = mm.rod->rod.material.yield_strength;
     s["rod"] = {{"peak_gauge_stress [Pa]", peak_stress},
@@ -359,21 +377,14 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
     // Loaded contacts penetrate by micrometres; a tenth of the clearance means the law is far
     // too soft for the load, or the pin went through the bush.
     const double c = cfg.Quantity("joint.clearance");
-    double deepest = 0.0;
-    for (double d : ts.values("penetration")) deepest = std::max(deepest, d);
+    const double deepest = std::max(0.0, stat("penetration").max);
     if (deepest > 0.1 * c) {
       s["warnings"].push_back("the pin penetrated the bush by " + FormatValue(deepest) + " m, " +
                               std::to_string(std::lround(100.0 * deepest / c)) +
                               " % of joint.clearance: the contact law is too soft for the load");
     }
   }
-  const auto& eb = ts.values("energy_balance_error");
-  const auto& ek = ts.values("energy_kinetic");
-  double worst = 0.0, scale = 0.0;
-  for (size_t i = 0; i < eb.size(); ++i) {
-    worst = std::max(worst, std::abs(eb[i]));
-    scale = std::max(scale, std::abs(ek[i]));
-  }
+  const double worst = stat("energy_balance_error").peak_abs(), scale = stat("energy_kinetic").peak_abs();
   if (worst > 1e-2 * scale) {
     // At the run default tolerances every normal and friction law closes the balance below 1e-3
     // of the peak kinetic energy on both rigs (tests/study/law_matrix_slowtest.cc; the standard
@@ -384,10 +395,7 @@ nlohmann::json Summarise(const study::TimeSeries& ts, const Config& cfg, const M
   }
   s["energy"] = {{"max_balance_error [J]", worst}, {"max_kinetic [J]", scale},
                  {"relative_balance_error", scale > 0 ? worst / scale : 0.0}};
-  const auto& cv = ts.values("constraint_violation");
-  double drift = 0.0;
-  for (double v : cv) drift = std::max(drift, v);
-  s["max_constraint_violation [m]"] = drift;
+  s["max_constraint_violation [m]"] = std::max(0.0, stat("constraint_violation").max);
   return s;
 }
 
@@ -552,7 +560,15 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   }
   out.channels = rec.Finish(rate);
   if (vtk) out.vtk = vtk->Finish();
-  out.summary = Summarise(out.channels, cfg, mm);
+  if (!mm.is_pendulum && out.channels.num_samples() > 2) {
+    // One split into revolutions for both channels (and, through the twin's, the amplification).
+    const study::SampleRange all = out.channels.all();
+    const std::vector<study::SampleRange> revolutions =
+        study::SplitRevolutions(out.channels.values("crank_angle"), cfg.Quantity("sim.index_angle"), all);
+    out.slider_acceleration = study::CalcSignalSummary(out.channels.values("slider_acceleration"), all, revolutions);
+    out.bearing_force = study::CalcSignalSummary(out.channels.values("bearing_force"), all, revolutions);
+  }
+  out.summary = Summarise(out, rec.stats(), cfg, mm);
   out.summary["gauges"] = gauges;
   if (!steady.is_null()) {
     out.summary["steady_start"] = steady;
@@ -612,24 +628,6 @@ void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
   }
 }
 
-/// Peak of the bearing force: the ideal joint's reaction, or the clearance joint's contact
-/// force sqrt(Fn² + Ft²).
-std::vector<double> BearingForce(const study::TimeSeries& ts) {
-  if (ts.HasChannel("bearing_force")) {
-    const auto v = ts.values("bearing_force");
-    return {v.begin(), v.end()};
-  }
-  std::vector<double> f;
-  if (!ts.HasChannel("contact_normal_force")) return f;
-  const auto n = ts.values("contact_normal_force");
-  f.assign(n.begin(), n.end());
-  if (ts.HasChannel("contact_friction_force")) {
-    const auto t = ts.values("contact_friction_force");
-    for (size_t i = 0; i < f.size(); ++i) f[i] = std::hypot(n[i], t[i]);
-  }
-  return f;
-}
-
 }  // namespace
 
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
@@ -653,34 +651,27 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   const std::shared_ptr<const RunResult> twin = outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
   out.summary["ideal"] = twin->summary;
   out.summary["ideal"]["reused"] = !computed;
-  if (twin->ok() && twin->channels.num_samples() == out.channels.num_samples()) {
-    const double idx = cfg.Quantity("sim.index_angle");
-    const study::SignalSummary real =
-        study::CalcSignalSummary(out.channels, "slider_acceleration", "crank_angle", idx, out.channels.all());
-    const study::SignalSummary ideal =
-        study::CalcSignalSummary(twin->channels, "slider_acceleration", "crank_angle", idx, twin->channels.all());
-    const study::LoadAmplification a = study::CalcLoadAmplification(real, ideal);
+  if (twin->ok() && twin->channels.num_samples() == out.channels.num_samples() && out.slider_acceleration &&
+      twin->slider_acceleration) {  // (and bearing_force: both are set together)
+    const study::LoadAmplification a = study::CalcLoadAmplification(*out.slider_acceleration, *twin->slider_acceleration);
     auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json amp = {{"slider_acceleration_positive", num(a.positive)},
                           {"slider_acceleration_negative", num(a.negative)},
                           {"slider_acceleration_positive_p95", num(a.positive_p95)},
                           {"slider_acceleration_negative_p95", num(a.negative_p95)}};
-    const std::vector<double> fr = BearingForce(out.channels), fi = BearingForce(twin->channels);
-    if (!fr.empty() && !fi.empty()) {
-      const double pr = *std::max_element(fr.begin(), fr.end());
-      const double pi = *std::max_element(fi.begin(), fi.end());
-      amp["bearing_force"] = num(pi > 0 ? pr / pi : NAN);
-      amp["bearing_force_peak_real [N]"] = pr;
-      amp["bearing_force_peak_ideal [N]"] = pi;
-      // Per-revolution variant, as for the acceleration: ratio of the 95th percentiles of the
-      // per-revolution peaks. The whole-window peak is one impact, which a chaotic contact
-      // history can move (rigid rig, 177 rpm, 10 revolutions from rest, before the joint's
-      // coordinates had their tolerance referred to the clearance: 165 at sim.rel_tol 1e-6, 132
-      // at 3e-6; now 179.74 at 1e-6, 3e-6 and 1e-7, the p95 ratio 109.21).
-      const double br = study::CalcSignalSummary(fr, out.channels.values("crank_angle"), idx, out.channels.all()).positive.p95;
-      const double bi = study::CalcSignalSummary(fi, twin->channels.values("crank_angle"), idx, twin->channels.all()).positive.p95;
-      amp["bearing_force_p95"] = num(bi > 0 ? br / bi : NAN);
-    }
+    // Bearing force: the ideal joint's reaction against the clearance joint's contact force, both
+    // |F| on the bush (channel bearing_force), whole-window peaks (bearing force ≥ 0: its
+    // peak_positive is its maximum) and, as for the acceleration, the ratio of the 95th
+    // percentiles of the per-revolution peaks. The whole-window peak is one impact, which a
+    // chaotic contact history can move (rigid rig, 177 rpm, 10 revolutions from rest, before the
+    // joint's coordinates had their tolerance referred to the clearance: 165 at sim.rel_tol 1e-6,
+    // 132 at 3e-6; now 179.74 at 1e-6, 3e-6 and 1e-7, the p95 ratio 109.21).
+    const study::SignalSummary& fr = *out.bearing_force;
+    const study::SignalSummary& fi = *twin->bearing_force;
+    amp["bearing_force"] = num(fi.peak_positive > 0 ? fr.peak_positive / fi.peak_positive : NAN);
+    amp["bearing_force_peak_real [N]"] = fr.peak_positive;
+    amp["bearing_force_peak_ideal [N]"] = fi.peak_positive;
+    amp["bearing_force_p95"] = num(fi.positive.p95 > 0 ? fr.positive.p95 / fi.positive.p95 : NAN);
     out.summary["load_amplification"] = amp;
   }
   out.ideal = std::shared_ptr<const study::TimeSeries>(twin, &twin->channels);  // lives with the twin

@@ -20,6 +20,7 @@
 #include "study/config.h"
 #include "study/slider_crank.h"
 #include "study/impact_log.h"
+#include "study/signals.h"
 #include "study/timeseries.h"
 #include "study/vtk.h"
 
@@ -33,6 +34,9 @@ struct RunResult {
   /// The ideal-joint twin's channels (clearance runs; shared with other runs when the twin
   /// came from a TwinCache).
   std::shared_ptr<const study::TimeSeries> ideal;
+  /// Slider-cranks: slider_acceleration and bearing_force over the capture and its complete
+  /// revolutions (summary "slider_acceleration"; the load amplification's inputs).
+  std::optional<study::SignalSummary> slider_acceleration, bearing_force;
   std::vector<study::Impact> impacts;     ///< impact log of the captured window (clearance runs)
   std::optional<study::VtkSeries> vtk;    ///< ParaView frames of the captured window, if requested
   std::string vtk_collection;             ///< path of the written .pvd, "" if none was written

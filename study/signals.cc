@@ -290,6 +290,12 @@ SignalSummary CalcSignalSummary(std::span<const double> x, std::span<const doubl
                                 double index_angle, SampleRange range) {
   RequireSameLength(x.size(), crank_angle.size(), "summary.samples");
   ValidateRange("summary.range", range, x.size());
+  return CalcSignalSummary(x, range, SplitRevolutions(crank_angle, index_angle, range));
+}
+
+SignalSummary CalcSignalSummary(std::span<const double> x, SampleRange range,
+                                std::span<const SampleRange> revolutions) {
+  ValidateRange("summary.range", range, x.size());
   SignalSummary s;
   const auto peaks_of = [&x](SampleRange r, double* pos, double* neg) {
     *pos = 0.0;
@@ -301,9 +307,9 @@ SignalSummary CalcSignalSummary(std::span<const double> x, std::span<const doubl
   };
   peaks_of(range, &s.peak_positive, &s.peak_negative);
   s.rms = Rms(x.subspan(range.begin, range.size()));
-  const std::vector<SampleRange> revolutions = SplitRevolutions(crank_angle, index_angle, range);
   std::vector<double> pos(revolutions.size()), neg(revolutions.size()), mag(revolutions.size());
   for (std::size_t k = 0; k < revolutions.size(); ++k) {
+    ValidateRange("summary.revolutions", revolutions[k], x.size());
     peaks_of(revolutions[k], &pos[k], &neg[k]);
     mag[k] = std::max(pos[k], neg[k]);
   }

@@ -180,6 +180,10 @@ struct SignalSummary {
 /// InputError if the spans differ in length or the range is bad.
 SignalSummary CalcSignalSummary(std::span<const double> x, std::span<const double> crank_angle,
                                 double index_angle, SampleRange range);
+/// Same, with the range's revolutions already split (SplitRevolutions of the same crank angle
+/// and range; each must lie inside the range): a record's channels share one split.
+SignalSummary CalcSignalSummary(std::span<const double> x, SampleRange range,
+                                std::span<const SampleRange> revolutions);
 SignalSummary CalcSignalSummary(const TimeSeries& series, std::string_view channel,
                                 std::string_view crank_channel, double index_angle,
                                 SampleRange range);
