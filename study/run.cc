@@ -256,19 +256,19 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     }
     rec->Add(std::move(modal), [=](const SampleView& s, double* v) { std::copy_n(s.y() + q0, n, v); });
   }
-  rec->Add({{"energy_kinetic", "J"},
-            {"energy_strain", "J"},
-            {"energy_dissipated", "J"},
-            {"driver_work", "J"},
-            {"energy_balance_error", "J"}},
-           [](const SampleView& s, double* v) {
-             const multibody::EnergyReport e = s.Energies();
-             v[0] = e.kinetic;
-             v[1] = e.strain;
-             v[2] = e.dissipated_elements + e.dissipated_damping;
-             v[3] = e.driver_work;
-             v[4] = e.balance_error;
-           });
+  // Strain energy only with an elastic rod (a rigid one has none: the channel would be zeros).
+  const bool elastic = mm.rod != nullptr;
+  std::vector<Recorder::Spec> energies = {{"energy_kinetic", "J"}};
+  if (elastic) energies.push_back({"energy_strain", "J"});
+  energies.insert(energies.end(), {{"energy_dissipated", "J"}, {"driver_work", "J"}, {"energy_balance_error", "J"}});
+  rec->Add(std::move(energies), [elastic](const SampleView& s, double* v) {
+    const multibody::EnergyReport e = s.Energies();
+    *v++ = e.kinetic;
+    if (elastic) *v++ = e.strain;
+    *v++ = e.dissipated_elements + e.dissipated_damping;
+    *v++ = e.driver_work;
+    *v = e.balance_error;
+  });
   rec->Add({{"constraint_violation", "m"}}, [](const SampleView& s, double* v) { v[0] = s.ConstraintViolation(); });
 }
 
