@@ -28,9 +28,6 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
   return out;
 }
 
-/// Channel recorder, filled in the capture window. Channels come in groups: a group's function
-/// writes the values of all its channels for one sample, so what they share (a joint reaction,
-/// the contact response, the energies) is computed once, with one call per group.
 /// Extremes and sum of squares of one channel's samples, gathered as they are recorded (the
 /// summary then needs no second pass over a record of tens of MB).
 struct ChannelStats {
@@ -40,6 +37,9 @@ struct ChannelStats {
   double peak_abs() const { return std::max(max, -min); }
 };
 
+/// Channel recorder, filled in the capture window. Channels come in groups: a group's function
+/// writes the values of all its channels for one sample, so what they share (a joint reaction,
+/// the contact response, the energies) is computed once, with one call per group.
 class Recorder {
  public:
   struct Spec {
@@ -315,7 +315,7 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
   return j;
 }
 
-/// Per-revolution statistics of a slider-crank record's channel: x over the record's revolutions.
+/// A channel's peaks, RMS and per-revolution peak statistics as the summary writes them.
 nlohmann::json SignalSummaryJson(const study::SignalSummary& a, const std::string& unit) {
   return {{"unit", unit},
           {"peak_positive", a.peak_positive},
