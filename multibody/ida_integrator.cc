@@ -222,6 +222,7 @@ struct IdaIntegrator::Impl {
   SparsityPattern pattern;
   std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
   bool time_calls{false};  // IntegratorOptions::time_calls
+  double t_returned{std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it)
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -473,6 +474,7 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
     std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
     CheckFlag(IDAReInit(I.mem, t0, I.y, I.yp), "IDAReInit");
     I.newton_rate_factor = 20.0;
+    I.t_returned = std::numeric_limits<double>::quiet_NaN();  // y holds no step's φ₀ now
     ++I.reinits;
     return;
   }
@@ -576,6 +578,7 @@ StepResult IdaIntegrator::Step(double tout) {
     if (IDAGetCurrentTime(I.mem, &tn) == IDA_SUCCESS) tret = tn;
   }
   out.t = tret;
+  I.t_returned = tret;
   switch (flag) {
     case IDA_SUCCESS: out.outcome = StepOutcome::kStep; return out;
     case IDA_ROOT_RETURN:
@@ -620,8 +623,14 @@ void IdaIntegrator::CacheStepPolynomial() {
   double factorial = 1.0;
   for (int j = 0; j <= k; ++j) {
     if (j > 0) factorial *= j;
-    CheckFlag(IDAGetDky(I.mem, tn, j, I.tmp), "IDAGetDky");
     const double* d = NV_DATA_S(I.tmp);
+    if (j == 0 && I.t_returned == tn) {
+      // The value at t_n is φ₀, which IDASolve has just returned (IDAGetSolution at t_n copies
+      // it; IDAGetDky(t_n, 0) weights φ₁..φ_k by zero): the same numbers without the call.
+      d = NV_DATA_S(I.y);
+    } else {
+      CheckFlag(IDAGetDky(I.mem, tn, j, I.tmp), "IDAGetDky");
+    }
     double* row = poly_.data() + static_cast<size_t>(j) * n;
     for (int i = 0; i < n; ++i) row[i] = d[i] / factorial;
   }
