@@ -95,19 +95,10 @@ void FillQuadraticVelocity(const Body& b, const BodyScratch& s, const double* vb
 }
 
 // ---- marker level -----------------------------------------------------------------------------
+// A marker on a body (ground markers' kinematics are constant: RunData sets them).
 void UpdateMarker(const Mechanism& model, int mi, RunData* data, const double* p, const double* v) {
   const Marker& mk = model.markers()[mi];
   MarkerScratch& ms = data->markers[mi];
-  if (mk.body < 0) {
-    ms.kin.position = mk.position;
-    ms.kin.velocity.setZero();
-    ms.kin.angle = mk.angle;
-    ms.kin.angular_velocity = 0.0;
-    ms.Au.setZero();
-    ms.ASqd.setZero();
-    ms.conv_acc.setZero();
-    return;
-  }
   const Body& b = model.bodies()[mk.body];
   const BodyScratch& s = data->bodies[mk.body];
   const double* pb = p + b.coordinate_offset;
@@ -141,8 +132,7 @@ void UpdateAll(const Mechanism& model, RunData* data, const double* p, const dou
     const Body& b = bodies[i];
     UpdateBody(b, p + b.coordinate_offset, v + b.coordinate_offset, &data->bodies[i], dynamics);
   }
-  const int nm = static_cast<int>(model.markers().size());
-  for (int i = 0; i < nm; ++i) UpdateMarker(model, i, data, p, v);
+  for (int i : data->body_markers) UpdateMarker(model, i, data, p, v);
 }
 
 // Jr, Jφ, C = ∂(Jr v)/∂p and A S_u of a body marker at the current state.

@@ -33,6 +33,12 @@ RunData::RunData(const Mechanism& m) : model(&m) {
     const Marker& mk = m.markers()[i];
     const int nb = nb_of(mk.body);
     const int n = mk.body < 0 ? 0 : m.bodies()[mk.body].num_modes;
+    if (mk.body < 0) {  // fixed in the world (the scratch's vectors start at zero)
+      markers[i].kin.position = mk.position;
+      markers[i].kin.angle = mk.angle;
+    } else {
+      body_markers.push_back(static_cast<int>(i));
+    }
     markers[i].Jr = Mat2X::Zero(2, nb);
     markers[i].Jphi = RowVec::Zero(nb);
     markers[i].C = Mat2X::Zero(2, nb);

@@ -76,7 +76,8 @@ class RunData {
 
   const Mechanism* model{nullptr};  ///< the model this workspace was sized for
   std::vector<BodyScratch> bodies;
-  std::vector<MarkerScratch> markers;
+  std::vector<MarkerScratch> markers;  ///< ground markers' kinematics are set here, once
+  std::vector<int> body_markers;       ///< the markers on bodies, which UpdateAll refreshes
   std::vector<JointScratch> joints;
   std::vector<ElementScratch> elements;
   Vec Q;                            ///< applied generalized forces (np)
