@@ -131,8 +131,12 @@ const std::vector<ParamDef>& Schema() {
       {"sim.start", K::kChoice, D::kDimensionless, "rigid",
        "initial rod state: rigid (undeformed on the rigid motion), static (static equilibrium), "
        "steady (constant drive: revolutions from index to index until the rod's elastic state repeats to "
-       "1000 sim.rel_tol of its peak (within [1e-6, 1e-2]), at most 100; then the capture, sim.settle unused)",
+       "1000 sim.rel_tol of its peak (within [1e-6, 1e-2]), at most sim.steady_revolutions; then the capture, "
+       "sim.settle unused)",
        {"rigid", "static", "steady"}},
+      {"sim.steady_revolutions", K::kInteger, D::kDimensionless, "100",
+       "sim.start = steady: most revolutions of the search, >= 2 (the capture then starts where it stopped, "
+       "with a warning)"},
       {"sim.settle", K::kQuantity, D::kTime, "1 s", "settling time before capture [s], >= 0"},
       {"sim.capture", K::kQuantity, D::kTime, "3 s", "captured duration [s], > 0 (RIG.md Table 2)"},
       {"sim.sample_rate", K::kQuantity, D::kFrequency, "100 kHz", "output sample rate [Hz], > 0"},

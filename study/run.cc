@@ -415,6 +415,11 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   RequireNonNegative("sim.settle", settle);
   RequirePositive("sim.capture", capture);
   const std::string start = cfg.Text("sim.start");
+  const int max_revolutions = cfg.Integer("sim.steady_revolutions");  // of a steady start's search
+  if (max_revolutions < 2) {
+    throw InputError("sim.steady_revolutions", std::to_string(max_revolutions),
+                     "must be >= 2 (two revolutions are the least that can repeat)");
+  }
   if (start == "steady" && (mm.is_pendulum || !mm.rod)) {
     throw InputError("sim.start", "steady",
                      "needs a slider-crank with a flexible rod: the periodic steady state is found on the "
@@ -512,7 +517,6 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     // than the integration error: on the flexible rig (ideal joint, 200 rpm) successive
     // revolutions of a long run differ by 2e-4 of the peak at rel_tol 1e-6 and 1.5e-8 at 1e-8.
     constexpr int kSteadySamples = 16;
-    constexpr int kMaxRevolutions = 100;
     const double tolerance = std::clamp(1e3 * opt.integrator.rel_tol, 1e-6, 1e-2);
     multibody::ConsistentState state = multibody::ComputeConsistentState(m, &data, 0.0, ic);
     const double period = kTwoPi / cfg.Quantity("drive.speed");
@@ -526,7 +530,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     rev.sample_rate = kSteadySamples / period;
     double change = std::numeric_limits<double>::infinity();  // no previous revolution yet
     int revolutions = 0;
-    for (; revolutions < kMaxRevolutions && change > tolerance; ++revolutions) {
+    for (; revolutions < max_revolutions && change > tolerance; ++revolutions) {
       // Segment r ends at the (r+1)-th index time after t_first_index; its last revolution is sampled.
       rev.t_end = t_first_index + (revolutions + 1) * period;
       rev.sample_start = rev.t_end - period + period / kSteadySamples;

@@ -157,6 +157,28 @@ TEST(FlexibleRig, SteadyStartReachesThePeriodicStateOfALongSettling) {
   EXPECT_LT(diff, 3e-4 * peak) << "peak " << peak;
 }
 
+// A steady search cut short (sim.steady_revolutions = 2: one comparison, from rest, far from the
+// periodic state) says so: converged false, its revolutions and last change, a warning, and the
+// capture from where it stopped.
+TEST(FlexibleRig, SteadyStartThatDoesNotRepeatWarnsAndCapturesFromWhereItStopped) {
+  const RunResult r = RunSimulation(Preset("flexible-rig", {"joint.type=ideal", "sim.capture=0.1 s", "sim.sample_rate=10 kHz",
+                                                            "sim.rel_tol=1e-7", "sim.start=steady",
+                                                            "sim.steady_revolutions=2"}));
+  ASSERT_TRUE(r.ok()) << r.status.Summary();
+  const nlohmann::json& info = r.summary["steady_start"];
+  EXPECT_FALSE(info["converged"].get<bool>()) << info.dump();
+  EXPECT_EQ(info["revolutions"].get<int>(), 2);
+  EXPECT_GT(info["relative_change"].get<double>(), info["tolerance"].get<double>());
+  ASSERT_TRUE(r.summary.contains("warnings"));
+  bool warned = false;
+  for (const auto& w : r.summary["warnings"]) warned |= w.get<std::string>().find("did not repeat") != std::string::npos;
+  EXPECT_TRUE(warned) << r.summary["warnings"].dump();
+  // The capture starts at the crank index two revolutions after the first one (t = 0.6 s at 200 rpm).
+  EXPECT_EQ(r.channels.num_samples(), 1000u);
+  EXPECT_NEAR(std::remainder(r.channels.values("crank_angle").front(), 2 * std::numbers::pi), 0.0, 1e-9);
+  EXPECT_NEAR(r.channels.start_time(), 0.6, 1e-9);
+}
+
 TEST(FlexiblePendulum, UndampedConservesEnergy) {
   const RunResult r = RunSimulation(Preset("flexible-pendulum", {"sim.capture=0.4 s", "sim.sample_rate=5 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
@@ -237,6 +259,7 @@ TEST(RunInput, BadInputNamesKeyValueAndRule) {
   expect_error({"drive.speed=-5 rpm"}, "drive.speed");
   expect_error({"rod.type=rigid", "sim.start=steady"}, "sim.start");  // no elastic state to settle
   expect_error({"drive.type=motor", "sim.start=steady"}, "sim.start");  // no fixed period
+  expect_error({"sim.steady_revolutions=1"}, "sim.steady_revolutions");
   // Keys the multibody layer checks again under its own names: the error names the input key.
   expect_error({"slider.damping=-1"}, "slider.damping");
   expect_error({"slider.friction=-1 N"}, "slider.friction");
