@@ -3,9 +3,17 @@
 // channels, summaries and, for a clearance run, its ideal-joint twin; no files), split into the
 // run and the twin; steps, events, real-time factor and the share of time in residual,
 // Jacobian, linear solve, output and contact evaluation, for the cases the issues set targets
-// for. Usage: bench_runs [case ...]  (no argument: all cases).
+// for. Usage: bench_runs [--repeat N] [case ...]  (no case: all cases). With --repeat N each
+// case runs N times, each in a fresh child process (a run's first touch of its record's memory is
+// part of its cost, which a repetition in the same process would hide), the first one with the
+// full report; then the minimum, median and maximum of the wall times over the N.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -36,14 +44,21 @@ const std::vector<Case> kCases = {
      "< 3 s wall (issues 4, 5)"},
 };
 
-int RunCase(const Case& c) {
+struct Timing {
+  double end_to_end{0.0}, run{0.0}, twin{0.0};  // [s]; twin 0 without one
+  int rc{0};
+};
+
+/// One plain run of the case; with `report`, its figures and a second, profiled run's time shares.
+Timing RunCase(const Case& c, bool report) {
+  Timing out;
   flexrod::Config cfg;
   cfg.LoadToml(flexrod::FindPreset(c.preset)->toml, c.preset);
   try {
     for (const std::string& s : c.sets) cfg.SetAssignment(s);
   } catch (const std::exception& e) {
-    std::printf("%-28s skipped: %s\n", c.name, e.what());
-    return 0;
+    if (report) std::printf("%-28s skipped: %s\n", c.name, e.what());
+    return out;
   }
   // Wall times from a plain run, which computes its ideal-joint twin.
   flexrod::TwinCache twins;
@@ -53,6 +68,9 @@ int RunCase(const Case& c) {
   const flexrod::RunResult r = flexrod::RunSimulation(cfg, nullptr, false, plain);
   const double end_to_end = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
   const auto& st = r.status;
+  out = {end_to_end, r.summary["wall_time [s]"].get<double>(),
+         r.summary.contains("ideal") ? r.summary["ideal"]["wall_time [s]"].get<double>() : 0.0, st.ok() ? 0 : 1};
+  if (!report) return out;
   const double simulated = st.t_reached;
   const double wall = st.wall_seconds;
   std::printf("%-28s target %s\n", c.name, c.target);
@@ -93,17 +111,80 @@ int RunCase(const Case& c) {
   if (r.summary.contains("load_amplification")) {
     std::printf("  load amplification: %s\n", r.summary["load_amplification"].dump().c_str());
   }
-  return st.ok() ? 0 : 1;
+  return out;
+}
+
+/// RunCase in a child process; the child's Timing comes back through a pipe.
+Timing RunCaseInChild(const Case& c, bool report) {
+  std::fflush(stdout);
+  int fd[2];
+  if (pipe(fd) != 0) {
+    std::perror("bench_runs: pipe");
+    std::exit(1);
+  }
+  const pid_t pid = fork();
+  if (pid < 0) {
+    std::perror("bench_runs: fork");
+    std::exit(1);
+  }
+  if (pid == 0) {
+    close(fd[0]);
+    const Timing t = RunCase(c, report);
+    std::fflush(stdout);
+    const bool written = write(fd[1], &t, sizeof t) == static_cast<ssize_t>(sizeof t);
+    _exit(written ? 0 : 1);
+  }
+  close(fd[1]);
+  Timing t;
+  const bool complete = read(fd[0], &t, sizeof t) == static_cast<ssize_t>(sizeof t);
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!complete || !WIFEXITED(status) || WEXITSTATUS(status) != 0) t.rc = 1;
+  return t;
+}
+
+void PrintSpread(const char* what, std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  std::printf("  %s min %.3f s, median %.3f s, max %.3f s\n", what, v.front(), v[v.size() / 2], v.back());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  int repeat = 1;
+  std::vector<std::string> names;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--repeat" && i + 1 < argc) {
+      repeat = std::atoi(argv[++i]);
+      if (repeat < 1) {
+        std::fprintf(stderr, "bench_runs: --repeat %s: must be an integer >= 1\n", argv[i]);
+        return 2;
+      }
+    } else {
+      names.push_back(arg);
+    }
+  }
   int rc = 0;
   for (const Case& c : kCases) {
-    bool selected = argc == 1;
-    for (int i = 1; i < argc; ++i) selected |= (c.name == std::string(argv[i]));
-    if (selected) rc |= RunCase(c);
+    if (!names.empty() && std::find(names.begin(), names.end(), c.name) == names.end()) continue;
+    if (repeat == 1) {
+      rc |= RunCase(c, true).rc;
+      continue;
+    }
+    std::vector<double> end_to_end, run, twin;
+    for (int k = 0; k < repeat; ++k) {
+      const Timing t = RunCaseInChild(c, k == 0);
+      rc |= t.rc;
+      end_to_end.push_back(t.end_to_end);
+      run.push_back(t.run);
+      twin.push_back(t.twin);
+    }
+    std::printf("  over %d runs, each in a fresh process:\n", repeat);
+    PrintSpread("end to end:", end_to_end);
+    PrintSpread("the run itself:", run);
+    if (twin.front() > 0.0) PrintSpread("its ideal-joint twin:", twin);
   }
   return rc;
 }
