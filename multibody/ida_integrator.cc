@@ -222,7 +222,7 @@ struct IdaIntegrator::Impl {
   SparsityPattern pattern;
   std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
   bool time_calls{false};  // IntegratorOptions::time_calls
-  double t_returned{std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it)
+  double t_returned{std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it) [s]
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};

@@ -14,6 +14,7 @@
 #include <Eigen/QR>
 
 #include "common/error.h"
+#include "common/scope_timer.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -616,7 +617,7 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   };
   auto emit_up_to = [&](double t_ret, bool from_dense) {
     if (!grid_active) return;
-    const auto w0 = Clock::now();
+    const ScopeTimer timer(&output_seconds);
     bool cached = false;
     for (;;) {
       const double ts = grid_start + static_cast<double>(k_next) * dt;
@@ -635,7 +636,6 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       }
       ++k_next;
     }
-    output_seconds += Seconds(w0, Clock::now());
   };
   double t_now = t0;  // time of the integrator's returned state (ida.y())
   auto fill_failure = [&](SimulationOutcome outcome, const std::string& message,

@@ -31,10 +31,10 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
 /// Extremes and sum of squares of one channel's samples, gathered as they are recorded (the
 /// summary then needs no second pass over a record of tens of MB).
 struct ChannelStats {
-  double min{std::numeric_limits<double>::infinity()};
-  double max{-std::numeric_limits<double>::infinity()};
-  double sum_squares{0.0};
-  double peak_abs() const { return std::max(max, -min); }
+  double min{std::numeric_limits<double>::infinity()};   ///< [channel unit]
+  double max{-std::numeric_limits<double>::infinity()};  ///< [channel unit]
+  double sum_squares{0.0};                                ///< Σ x² [channel unit²]
+  double peak_abs() const { return std::max(max, -min); }  ///< max |x| [channel unit]
 };
 
 /// Channel recorder, filled in the capture window. Channels come in groups: a group's function
@@ -336,10 +336,7 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
   if (ts.num_samples() == 0) return s;
   FLEXROD_ASSERT(stats.size() == ts.num_channels());
   auto stat = [&](std::string_view name) -> const ChannelStats& {
-    for (size_t c = 0; c < stats.size(); ++c) {
-      if (ts.channels()[c].name == name) return stats[c];
-    }
-    throw std::logic_error("Summarise: no channel " + std::string(name));
+    return stats[static_cast<size_t>(&ts.channel(name) - ts.channels().data())];
   };
   for (size_t c = 0; c < stats.size(); ++c) {
     const study::Channel& ch = ts.channels()[c];

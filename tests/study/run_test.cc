@@ -429,12 +429,6 @@ TEST(RunRobustness, APenetrationOfATenthOfTheClearanceIsWarnedAbout) {
   EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("% of joint.clearance"), std::string::npos);
 }
 
-}  // namespace
-}  // namespace flexrod
-
-namespace flexrod {
-namespace {
-
 TEST(ImpactLog, ARigidRigRunLogsEveryLocatedContactAndAgreesWithItsChannels) {
   // Rigid rig, hybrid law with friction, 1 mm, 177 rpm, one revolution. The log is built from
   // the located onsets and separations and the solution points between them (samples included),
