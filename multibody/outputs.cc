@@ -109,7 +109,8 @@ ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId
   return r;
 }
 
-EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y) {
+EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y,
+                          KnownPotential known) {
   EnergyReport e;
   const int np = model.num_coordinates();
   const Vec2& g = model.gravity();
@@ -128,10 +129,15 @@ EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y
   }
   const double* z = y + model.z_offset();
   const double* mem = data->element_memory.data();
-  for (const ElementSlot& el : model.elements()) {
-    e.element_potential += el.element->PotentialEnergy(
-        data->markers[el.marker_i].kin, data->markers[el.marker_j].kin, z + el.state_offset,
-        mem + el.memory_offset);
+  const auto& elements = model.elements();
+  for (size_t i = 0; i < elements.size(); ++i) {
+    const ElementSlot& el = elements[i];
+    e.element_potential += static_cast<int>(i) == known.element
+                               ? known.energy
+                               : el.element->PotentialEnergy(data->markers[el.marker_i].kin,
+                                                             data->markers[el.marker_j].kin,
+                                                             z + el.state_offset,
+                                                             mem + el.memory_offset);
   }
   const double* quad = y + model.quadrature_offset();
   e.dissipated_elements = quad[kDissipatedElements];

@@ -68,8 +68,15 @@ JointReaction CalcJointReaction(const Mechanism& model, const RunData& data, Joi
 DriverState CalcDriverState(const Mechanism& model, DriverId driver, const double* y);
 ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId element,
                                 double t, const double* y);
-/// Uses data->reference_energy for balance_error.
-EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y);
+/// One element's potential energy [J] already evaluated at the state (index −1: none).
+struct KnownPotential {
+  int element{-1};
+  double energy{0.0};  ///< [J]
+};
+/// Uses data->reference_energy for balance_error. The `known` element's potential energy is
+/// taken as given instead of evaluated again.
+EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y,
+                          KnownPotential known = {});
 /// Largest |g_k(p, t)| over all position constraints [m or rad].
 double MaxConstraintViolation(const Mechanism& model, RunData* data, double t, const double* y);
 

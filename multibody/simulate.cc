@@ -468,7 +468,7 @@ ElementReport SampleView::Element(ElementId e) const {
 }
 EnergyReport SampleView::Energies() const {
   Ready();
-  return CalcEnergies(model_, data_, y_);
+  return CalcEnergies(model_, data_, y_, known_);
 }
 double SampleView::ConstraintViolation() const {
   Ready();

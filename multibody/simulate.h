@@ -173,6 +173,9 @@ class SampleView {
   ElementReport Element(ElementId e) const;
   EnergyReport Energies() const;
   double ConstraintViolation() const;
+  /// An element query that has evaluated element e at this sample (CalcClearanceResponse)
+  /// leaves its potential energy [J] here, so that Energies() does not evaluate it again.
+  void NotePotentialEnergy(ElementId e, double energy) const { known_ = {e.index, energy}; }
 
  private:
   void Ready() const;
@@ -182,6 +185,7 @@ class SampleView {
   const double* y_;
   const double* yp_;
   mutable bool ready_{false};
+  mutable KnownPotential known_;
 };
 
 struct SimulationCallbacks {

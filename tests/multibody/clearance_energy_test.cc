@@ -37,6 +37,10 @@ struct BounceResult {
   double max_normal_force{0.0};
   double onsets{0.0};
   long samples_in_contact{0};
+  // Largest |difference| between a sample's element potential energy evaluated by Energies()
+  // and the one it takes from the clearance response (SampleView::NotePotentialEnergy) [J].
+  double potential_memo_difference{0.0};
+  double max_element_potential{0.0};  // [J]
   SimulationStatus status;
 };
 
@@ -66,6 +70,10 @@ BounceResult Bounce(const contact::NormalLaw& law, std::optional<contact::Fricti
     res.min_normal_dissipation = std::min(res.min_normal_dissipation, r.normal_dissipation);
     res.max_normal_force = std::max(res.max_normal_force, r.normal_force);
     if (r.in_contact) ++res.samples_in_contact;
+    const EnergyReport again = s.Energies();  // now with the response's potential energy
+    res.potential_memo_difference = std::max(res.potential_memo_difference,
+                                             std::abs(again.element_potential - e.element_potential));
+    res.max_element_potential = std::max(res.max_element_potential, e.element_potential);
   };
   // Oblique launch off-centre with spin: impacts all round the bore, then rolling/sliding.
   res.status = Simulate(p.model, &data, PinStart(p, Vec2(0.0, 0.6 * c), Vec2(0.6, 0.1), 30.0),
@@ -92,6 +100,10 @@ TEST(ClearanceEnergy, BalanceClosesWithDissipativeContactAndFrictionAndFrictionO
     EXPECT_GE(r.min_friction_dissipation, 0.0);
     EXPECT_LE(r.max_friction_power, 0.0);
     EXPECT_GE(r.min_normal_dissipation, 0.0);
+    // The potential energy a sample's clearance response leaves for its energies is the one
+    // the energies would evaluate, to the bit.
+    EXPECT_GT(r.max_element_potential, 0.0);
+    EXPECT_EQ(r.potential_memo_difference, 0.0);
     char buf[64];
     std::snprintf(buf, sizeof(buf), "%.3e", r.worst_balance / r.kinetic0);
     ::testing::Test::RecordProperty(std::string(name) + "_balance_rel", buf);
