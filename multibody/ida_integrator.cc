@@ -640,24 +640,23 @@ void IdaIntegrator::CacheStepPolynomial() {
 }
 
 void IdaIntegrator::EvaluateStepPolynomial(double t, double* __restrict y,
-                                           double* __restrict yp) const {
+                                           double* __restrict yp,
+                                           const int* __restrict into) const {
   FLEXROD_ASSERT(poly_order_ >= 0);
-  const int n = impl_->n, k = poly_order_;
+  const size_t n = static_cast<size_t>(impl_->n);
+  const int k = poly_order_;
   const double s = t - poly_tn_;
   const double* __restrict c = poly_.data();
-  // Horner over the coefficient rows (inner loops over components vectorise):
-  // y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}.
-  const double* top = c + static_cast<size_t>(k) * n;
-  for (int i = 0; i < n; ++i) {
-    y[i] = top[i];
-    yp[i] = 0.0;
-  }
-  for (int j = k - 1; j >= 0; --j) {
-    const double* __restrict row = c + static_cast<size_t>(j) * n;
-    for (int i = 0; i < n; ++i) {
-      yp[i] = yp[i] * s + y[i];
-      y[i] = y[i] * s + row[i];
+  // Horner, component by component: y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}.
+  for (size_t i = 0; i < n; ++i) {
+    double v = c[static_cast<size_t>(k) * n + i], d = 0.0;
+    for (int j = k - 1; j >= 0; --j) {
+      d = d * s + v;
+      v = v * s + c[static_cast<size_t>(j) * n + i];
     }
+    const size_t to = into ? static_cast<size_t>(into[i]) : i;
+    y[to] = v;
+    yp[to] = d;
   }
 }
 

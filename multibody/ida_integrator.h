@@ -167,7 +167,9 @@ class IdaIntegrator {
   /// rule without calling IDA — the same polynomial IDAGetDky evaluates, for a fraction of
   /// its cost when many output samples fall into one step.
   void CacheStepPolynomial();
-  void EvaluateStepPolynomial(double t, double* y, double* yp) const;
+  /// Component i of y(t) and ẏ(t) goes to y[into[i]] and yp[into[i]] (into = nullptr: to
+  /// y[i], yp[i]), so that a caller with a larger layout (PrescribedMotion) needs no copy.
+  void EvaluateStepPolynomial(double t, double* y, double* yp, const int* into = nullptr) const;
   /// Validity interval [t_n − h_used, t_n] of the cached polynomial.
   double polynomial_start() const { return poly_t0_; }
   double polynomial_end() const { return poly_tn_; }

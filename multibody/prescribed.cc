@@ -139,6 +139,10 @@ void PrescribedMotion::Expand(double t, const double* y, const double* yp, doubl
   const int* __restrict kept = kept_unknowns_.data();
   for (int i = 0; i < n; ++i) y_full[kept[i]] = y[i];
   for (int i = 0; i < n; ++i) yp_full[kept[i]] = yp[i];
+  ExpandPrescribed(t, y_full, yp_full);
+}
+
+void PrescribedMotion::ExpandPrescribed(double t, double* y_full, double* yp_full) const {
   const int np = model_.num_coordinates();
   double p[3], v[3], a[3];
   for (const Set& s : sets_) {

@@ -50,6 +50,9 @@ class PrescribedMotion {
   /// motion (ṗ = v, v̇ = its acceleration in the current segment); the dropped μ and μ̇ zero.
   void Expand(double t, const double* y, const double* yp, double* y_full,
               double* yp_full) const;
+  /// The part of Expand that does not read the kept entries: prescribed p, v and their rates,
+  /// the dropped μ and μ̇ zero (for a caller that has written the kept entries itself).
+  void ExpandPrescribed(double t, double* y_full, double* yp_full) const;
   /// Gathers the kept unknowns of a full vector.
   void Reduce(const double* full, double* reduced) const;
   /// Gathers the kept rows and kept columns of a full column-major N×N matrix (ld = N) into

@@ -628,8 +628,8 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
           cached = true;
         }
         const double te = std::min(ts, t_ret);
-        ida.EvaluateStepPolynomial(te, yr.data(), ypr.data());
-        prescribed.Expand(te, yr.data(), ypr.data(), ybuf.data(), ypbuf.data());
+        ida.EvaluateStepPolynomial(te, ybuf.data(), ypbuf.data(), prescribed.kept_unknowns().data());
+        prescribed.ExpandPrescribed(te, ybuf.data(), ypbuf.data());
         emit(ts, ybuf.data(), ypbuf.data());
       } else {
         emit(ts, state.y.data(), state.yp.data());
