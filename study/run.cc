@@ -44,7 +44,7 @@ struct ChannelStats {
 /// Samples are gathered row by row in a small block and moved into their channels a block at a
 /// time, with each channel's running statistics: writing every channel's vector and statistics
 /// once per sample cost about 650 instructions a sample on the rigid rig (each push_back's
-/// reallocation path forces the loop to reload everything), the block move about a fifth of that.
+/// reallocation path forces the loop to reload everything), the block move about 300.
 class Recorder {
  public:
   struct Spec {

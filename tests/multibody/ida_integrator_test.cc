@@ -8,6 +8,7 @@
 #define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -197,7 +198,8 @@ TEST(IdaIntegrator, ARelativeToleranceCapResolvesASmallMotionAtALargeOffset) {
   EXPECT_GT(steps_capped, steps_plain);
 }
 
-// The Taylor form of the last step's interpolant equals IDAGetDky (value and derivative).
+// The Taylor form of the last step's interpolant equals IDAGetDky (value and derivative), also
+// when written through an index map.
 TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
   Oscillator dae;
   IdaIntegrator ida(&dae, Tight());
@@ -213,6 +215,19 @@ TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
       ida.EvaluateStepPolynomial(t, y, yp);
       ida.DenseOutput(t, 0, yd);
       ida.DenseOutput(t, 1, ypd);
+      // Written into a larger layout through an index map: the same numbers, in their slots,
+      // and nothing else touched.
+      const int into[3] = {4, 0, 2};
+      double ys[5], yps[5];
+      std::fill_n(ys, 5, -7.0);
+      std::fill_n(yps, 5, -7.0);
+      ida.EvaluateStepPolynomial(t, ys, yps, into);
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(ys[into[i]], y[i]);
+        EXPECT_EQ(yps[into[i]], yp[i]);
+      }
+      EXPECT_EQ(ys[1], -7.0);
+      EXPECT_EQ(yps[3], -7.0);
       for (int i = 0; i < 2; ++i) {
         worst = std::max(worst, std::abs(y[i] - yd[i]) / (1.0 + std::abs(yd[i])));
         worst = std::max(worst, std::abs(yp[i] - ypd[i]) / (kOmega + std::abs(ypd[i])));
