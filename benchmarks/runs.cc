@@ -3,10 +3,11 @@
 // channels, summaries and, for a clearance run, its ideal-joint twin; no files), split into the
 // run and the twin; steps, events, real-time factor and the share of time in residual,
 // Jacobian, linear solve, output and contact evaluation, for the cases the issues set targets
-// for. Usage: bench_runs [--repeat N] [case ...]  (no case: all cases). With --repeat N each
-// case runs N times, each in a fresh child process (a run's first touch of its record's memory is
-// part of its cost, which a repetition in the same process would hide), the first one with the
-// full report; then the minimum, median and maximum of the wall times over the N.
+// for. Usage: bench_runs [--repeat N] [case ...]  (no case: all cases). Each case runs N times
+// (default 5; single runs on a shared machine spread by 10 % and more), each in a fresh child
+// process (a run's first touch of its record's memory is part of its cost, which a repetition
+// in the same process would hide), the first one with the full report; then the minimum,
+// median and maximum of the wall times over the N. --repeat 1: one run, in this process.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -152,7 +153,7 @@ void PrintSpread(const char* what, std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 1;
+  int repeat = 5;
   std::vector<std::string> names;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -162,6 +163,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "bench_runs: --repeat %s: must be an integer >= 1\n", argv[i]);
         return 2;
       }
+    } else if (std::none_of(kCases.begin(), kCases.end(), [&](const Case& c) { return arg == c.name; })) {
+      std::string known;
+      for (const Case& c : kCases) known += std::string(known.empty() ? "" : ", ") + c.name;
+      std::fprintf(stderr, "bench_runs: %s: not a case (cases: %s; option: --repeat N)\n", arg.c_str(),
+                   known.c_str());
+      return 2;
     } else {
       names.push_back(arg);
     }
