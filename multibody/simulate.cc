@@ -677,6 +677,10 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   int stalls = 0;                    // consecutive kRootStall re-initialisations
   constexpr int kMaxRootStalls = 3;
 
+  // The solution point at t_now in yev/ypev, for on_step (each outcome below refreshes them).
+  auto report_step = [&] {
+    if (callbacks.on_step) callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
+  };
   try {
     for (;;) {
       const StepResult res = ida.Step(t_end);
@@ -686,10 +690,6 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       }
       if (res.outcome == StepOutcome::kStep) ++steps;
       emit_up_to(t_now, true);
-      // The solution point in yev/ypev for on_step (a root or stop time refreshes them below).
-      auto report_step = [&] {
-        if (callbacks.on_step) callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
-      };
       if (res.outcome == StepOutcome::kStep && callbacks.on_step) {
         expand_current(t_now, &yev, &ypev);
         report_step();
