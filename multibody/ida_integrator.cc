@@ -647,8 +647,32 @@ void IdaIntegrator::EvaluateStepPolynomial(double t, double* __restrict y,
   const int k = poly_order_;
   const double s = t - poly_tn_;
   const double* __restrict c = poly_.data();
-  // Horner, component by component: y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}.
-  for (size_t i = 0; i < n; ++i) {
+  // Horner, component by component: y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}. Four components at a
+  // time (a fixed count, so the chains stay in registers), so that four chains of dependent
+  // multiply-adds overlap; one at a time, each waits on the last (the rigid rig's ideal-joint
+  // twin alone, order-5 steps: 0.112 -> 0.104 s). The same arithmetic per component either way.
+  constexpr size_t kLanes = 4;
+  size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    double v[kLanes], d[kLanes];
+    for (size_t l = 0; l < kLanes; ++l) {
+      v[l] = c[static_cast<size_t>(k) * n + i + l];
+      d[l] = 0.0;
+    }
+    for (int j = k - 1; j >= 0; --j) {
+      const double* row = c + static_cast<size_t>(j) * n + i;
+      for (size_t l = 0; l < kLanes; ++l) {
+        d[l] = d[l] * s + v[l];
+        v[l] = v[l] * s + row[l];
+      }
+    }
+    for (size_t l = 0; l < kLanes; ++l) {
+      const size_t to = into ? static_cast<size_t>(into[i + l]) : i + l;
+      y[to] = v[l];
+      yp[to] = d[l];
+    }
+  }
+  for (; i < n; ++i) {  // the remaining n mod 4
     double v = c[static_cast<size_t>(k) * n + i], d = 0.0;
     for (int j = k - 1; j >= 0; --j) {
       d = d * s + v;

@@ -23,38 +23,50 @@ namespace {
 
 constexpr double kOmega = 3.0;  // [rad/s]
 
-// y = [x, v, a]; F = [x' − v, v' − a, a + ω² x]; root g = x.
+// y = [x, v, a]; F = [x' − v, v' − a, a + ω² x]; root g = x of the first copy. `copies`
+// independent copies side by side (y = [x₁, v₁, a₁, x₂, ...]) make a larger system.
 class Oscillator final : public DaeSystem {
  public:
-  int size() const override { return 3; }
+  explicit Oscillator(int copies = 1) : copies_(copies) {}
+  int size() const override { return 3 * copies_; }
   int num_roots() const override { return 1; }
   void DifferentialMask(double* id) const override {
-    id[0] = 1.0;
-    id[1] = 1.0;
-    id[2] = 0.0;
+    for (int m = 0; m < copies_; ++m) {
+      id[3 * m + 0] = 1.0;
+      id[3 * m + 1] = 1.0;
+      id[3 * m + 2] = 0.0;
+    }
   }
   int Residual(double, const double* y, const double* yp, double* r) override {
     ++residuals;
-    r[0] = yp[0] - y[1];
-    r[1] = yp[1] - y[2];
-    r[2] = y[2] + kOmega * kOmega * y[0];
+    for (int o = 0; o < 3 * copies_; o += 3) {
+      r[o + 0] = yp[o + 0] - y[o + 1];
+      r[o + 1] = yp[o + 1] - y[o + 2];
+      r[o + 2] = y[o + 2] + kOmega * kOmega * y[o + 0];
+    }
     return 0;
   }
   int Jacobian(double, double cj, const double*, const double*, double* J) override {
-    // Column-major 3×3: J(r, c) = J[c*3 + r].
-    J[0 * 3 + 0] = cj;
-    J[1 * 3 + 0] = -1.0;
-    J[1 * 3 + 1] = cj;
-    J[2 * 3 + 1] = -1.0;
-    J[0 * 3 + 2] = kOmega * kOmega;
-    J[2 * 3 + 2] = 1.0;
+    // Column-major n×n: J(r, c) = J[c*n + r].
+    const int n = size();
+    for (int o = 0; o < n; o += 3) {
+      J[(o + 0) * n + o + 0] = cj;
+      J[(o + 1) * n + o + 0] = -1.0;
+      J[(o + 1) * n + o + 1] = cj;
+      J[(o + 2) * n + o + 1] = -1.0;
+      J[(o + 0) * n + o + 2] = kOmega * kOmega;
+      J[(o + 2) * n + o + 2] = 1.0;
+    }
     return 0;
   }
   SparsityPattern JacobianPattern() const override {
     SparsityPattern p;
-    p.size = 3;
-    p.col_ptr = {0, 2, 4, 6};
-    p.row_index = {0, 2, 0, 1, 1, 2};
+    p.size = size();
+    p.col_ptr = {0};
+    for (int o = 0; o < size(); o += 3) {
+      for (int c = 0; c < 3; ++c) p.col_ptr.push_back(p.col_ptr.back() + 2);
+      for (int r : {0, 2, 0, 1, 1, 2}) p.row_index.push_back(o + r);
+    }
     return p;
   }
   int Roots(double, const double* y, const double*, double* g) override {
@@ -62,6 +74,9 @@ class Oscillator final : public DaeSystem {
     return 0;
   }
   long residuals{0};
+
+ private:
+  int copies_;
 };
 
 // x' = A ω cos ωt, x(0) = X: x = X + A sin ωt, a small motion at a large offset (a pin moving
@@ -92,10 +107,13 @@ IntegratorOptions Tight(LinearSolverKind kind = LinearSolverKind::kDense) {
 }
 
 // Consistent start of x = cos ωt at t = 0: (x, v, a) = (1, 0, −ω²) and their rates.
-void StartOnCosine(IdaIntegrator* ida) {
-  const double y0[3] = {1.0, 0.0, -kOmega * kOmega};
-  const double yp0[3] = {0.0, -kOmega * kOmega, 0.0};
-  ida->Initialize(0.0, y0, yp0);
+void StartOnCosine(IdaIntegrator* ida, int copies = 1) {
+  std::vector<double> y0, yp0;
+  for (int m = 0; m < copies; ++m) {
+    y0.insert(y0.end(), {1.0, 0.0, -kOmega * kOmega});
+    yp0.insert(yp0.end(), {0.0, -kOmega * kOmega, 0.0});
+  }
+  ida->Initialize(0.0, y0.data(), yp0.data());
 }
 
 // Integrates to t_end, returning the max |x − cos ωt| over steps and the root times.
@@ -201,45 +219,54 @@ TEST(IdaIntegrator, ARelativeToleranceCapResolvesASmallMotionAtALargeOffset) {
 // The Taylor form of the last step's interpolant equals IDAGetDky (value and derivative), also
 // when written through an index map.
 TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
-  Oscillator dae;
-  IdaIntegrator ida(&dae, Tight());
-  StartOnCosine(&ida);
-  double worst = 0.0;
-  for (int step = 0; step < 200; ++step) {
-    ida.Step(10.0);
-    ida.CacheStepPolynomial();
-    const double t0 = ida.polynomial_start(), t1 = ida.polynomial_end();
-    for (int k = 0; k <= 4; ++k) {
-      const double t = t0 + (t1 - t0) * k / 4.0;
-      double y[3], yp[3], yd[3], ypd[3];
-      ida.EvaluateStepPolynomial(t, y, yp);
-      ida.DenseOutput(t, 0, yd);
-      ida.DenseOutput(t, 1, ypd);
-      // Written into a larger layout through an index map: the same numbers, in their slots,
-      // and nothing else touched.
-      const int into[3] = {4, 0, 2};
-      double ys[5], yps[5];
-      std::fill_n(ys, 5, -7.0);
-      std::fill_n(yps, 5, -7.0);
-      ida.EvaluateStepPolynomial(t, ys, yps, into);
-      for (int i = 0; i < 3; ++i) {
-        EXPECT_EQ(ys[into[i]], y[i]);
-        EXPECT_EQ(yps[into[i]], yp[i]);
-      }
-      EXPECT_EQ(ys[1], -7.0);
-      EXPECT_EQ(yps[3], -7.0);
-      for (int i = 0; i < 2; ++i) {
-        worst = std::max(worst, std::abs(y[i] - yd[i]) / (1.0 + std::abs(yd[i])));
-        worst = std::max(worst, std::abs(yp[i] - ypd[i]) / (kOmega + std::abs(ypd[i])));
-        // At t_n the value is φ₀ itself (taken from IDASolve's return after a step, from
-        // IDAGetDky after a root return inside the step): exactly IDA's.
-        if (k == 4) {
-          EXPECT_EQ(y[i], yd[i]) << "step " << step;
+  // 3 unknowns, and 9 (the evaluation takes four components at a time, then the rest).
+  for (int copies : {1, 3}) {
+    SCOPED_TRACE(copies);
+    Oscillator dae(copies);
+    const int n = dae.size();
+    IdaIntegrator ida(&dae, Tight());
+    StartOnCosine(&ida, copies);
+    // A larger layout for the index map: component i goes to slot 2i + 1 (even slots untouched).
+    std::vector<int> into(n);
+    for (int i = 0; i < n; ++i) into[i] = 2 * i + 1;
+    std::vector<double> y(n), yp(n), yd(n), ypd(n), ys(2 * n + 1), yps(2 * n + 1);
+    double worst = 0.0;
+    for (int step = 0; step < 200; ++step) {
+      ida.Step(10.0);
+      ida.CacheStepPolynomial();
+      const double t0 = ida.polynomial_start(), t1 = ida.polynomial_end();
+      for (int k = 0; k <= 4; ++k) {
+        const double t = t0 + (t1 - t0) * k / 4.0;
+        ida.EvaluateStepPolynomial(t, y.data(), yp.data());
+        ida.DenseOutput(t, 0, yd.data());
+        ida.DenseOutput(t, 1, ypd.data());
+        // Written through the index map: the same numbers, in their slots, nothing else touched.
+        std::fill(ys.begin(), ys.end(), -7.0);
+        std::fill(yps.begin(), yps.end(), -7.0);
+        ida.EvaluateStepPolynomial(t, ys.data(), yps.data(), into.data());
+        for (int i = 0; i < n; ++i) {
+          EXPECT_EQ(ys[into[i]], y[i]);
+          EXPECT_EQ(yps[into[i]], yp[i]);
+        }
+        for (int slot = 0; slot <= 2 * n; slot += 2) {
+          EXPECT_EQ(ys[slot], -7.0);
+          EXPECT_EQ(yps[slot], -7.0);
+        }
+        for (int i = 0; i < n; ++i) {
+          // x, v, a and their rates are of order 1, ω, ω², ω³: relative to that scale.
+          const double scale = std::pow(kOmega, i % 3);
+          worst = std::max(worst, std::abs(y[i] - yd[i]) / (scale + std::abs(yd[i])));
+          worst = std::max(worst, std::abs(yp[i] - ypd[i]) / (kOmega * scale + std::abs(ypd[i])));
+          // At t_n the value is φ₀ itself (taken from IDASolve's return after a step, from
+          // IDAGetDky after a root return inside the step): exactly IDA's.
+          if (k == 4) {
+            EXPECT_EQ(y[i], yd[i]) << "step " << step;
+          }
         }
       }
     }
+    EXPECT_LE(worst, 1e-13);
   }
-  EXPECT_LE(worst, 1e-13);
 }
 
 TEST(IdaIntegrator, ReinitialisationRestartsAndKeepsCountingSteps) {
