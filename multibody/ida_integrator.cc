@@ -639,49 +639,43 @@ void IdaIntegrator::CacheStepPolynomial() {
   poly_t0_ = tn - hu;
 }
 
-void IdaIntegrator::EvaluateStepPolynomial(double t, double* __restrict y,
-                                           double* __restrict yp,
-                                           const int* __restrict into) const {
+namespace {
+// Horner on components i..i+L−1 of the coefficient rows c (row j = D^j y / j!, n wide, order k):
+// y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}, written to y[into[i + l]] (into = nullptr: y[i + l]). L is
+// a compile-time count so the L chains of dependent multiply-adds stay in registers and overlap.
+template <size_t L>
+void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int* into, double* y,
+                 double* yp) {
+  double v[L], d[L];
+  for (size_t l = 0; l < L; ++l) {
+    v[l] = c[static_cast<size_t>(k) * n + i + l];
+    d[l] = 0.0;
+  }
+  for (int j = k - 1; j >= 0; --j) {
+    const double* row = c + static_cast<size_t>(j) * n + i;
+    for (size_t l = 0; l < L; ++l) {
+      d[l] = d[l] * s + v[l];
+      v[l] = v[l] * s + row[l];
+    }
+  }
+  for (size_t l = 0; l < L; ++l) {
+    const size_t to = into ? static_cast<size_t>(into[i + l]) : i + l;
+    y[to] = v[l];
+    yp[to] = d[l];
+  }
+}
+}  // namespace
+
+void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, const int* into) const {
   FLEXROD_ASSERT(poly_order_ >= 0);
   const size_t n = static_cast<size_t>(impl_->n);
-  const int k = poly_order_;
   const double s = t - poly_tn_;
-  const double* __restrict c = poly_.data();
-  // Horner, component by component: y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}. Four components at a
-  // time (a fixed count, so the chains stay in registers), so that four chains of dependent
-  // multiply-adds overlap; one at a time, each waits on the last (the rigid rig's ideal-joint
-  // twin alone, order-5 steps: 0.112 -> 0.104 s). The same arithmetic per component either way.
-  constexpr size_t kLanes = 4;
+  // Four components at a time: one at a time, each multiply-add waits on the last (the rigid
+  // rig's ideal-joint twin alone, order-5 steps: 0.112 -> 0.104 s). The same arithmetic per
+  // component either way.
   size_t i = 0;
-  for (; i + kLanes <= n; i += kLanes) {
-    double v[kLanes], d[kLanes];
-    for (size_t l = 0; l < kLanes; ++l) {
-      v[l] = c[static_cast<size_t>(k) * n + i + l];
-      d[l] = 0.0;
-    }
-    for (int j = k - 1; j >= 0; --j) {
-      const double* row = c + static_cast<size_t>(j) * n + i;
-      for (size_t l = 0; l < kLanes; ++l) {
-        d[l] = d[l] * s + v[l];
-        v[l] = v[l] * s + row[l];
-      }
-    }
-    for (size_t l = 0; l < kLanes; ++l) {
-      const size_t to = into ? static_cast<size_t>(into[i + l]) : i + l;
-      y[to] = v[l];
-      yp[to] = d[l];
-    }
-  }
-  for (; i < n; ++i) {  // the remaining n mod 4
-    double v = c[static_cast<size_t>(k) * n + i], d = 0.0;
-    for (int j = k - 1; j >= 0; --j) {
-      d = d * s + v;
-      v = v * s + c[static_cast<size_t>(j) * n + i];
-    }
-    const size_t to = into ? static_cast<size_t>(into[i]) : i;
-    y[to] = v;
-    yp[to] = d;
-  }
+  for (; i + 4 <= n; i += 4) HornerGroup<4>(poly_.data(), n, poly_order_, s, i, into, y, yp);
+  for (; i < n; ++i) HornerGroup<1>(poly_.data(), n, poly_order_, s, i, into, y, yp);
 }
 
 const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }
