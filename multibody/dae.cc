@@ -104,27 +104,23 @@ void UpdateMarker(const Mechanism& model, int mi, RunData* data, const double* p
   const double* pb = p + b.coordinate_offset;
   const double* vb = v + b.coordinate_offset;
   const int n = b.num_modes;
-  const double thd = vb[kTheta];
-  if (n == 0) {  // a rigid body's marker (the sampled rigid rig has only these): A S_u q̇ = 0
-    ms.Au = s.A * mk.position;
-    ms.ASqd.setZero();
-    ms.kin.position = Vec2(pb[kX], pb[kY]) + ms.Au;
-    ms.kin.velocity = Vec2(vb[kX], vb[kY]) + Jm(ms.Au) * thd;
-    ms.kin.angle = pb[kTheta] + mk.angle;
-    ms.kin.angular_velocity = thd;
-    ms.conv_acc = -ms.Au * (thd * thd);
-    return;
-  }
-  CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
   Vec2 ubar = mk.position;
-  ubar.noalias() += mk.S_u * q;
-  const Vec2 Suqd = mk.S_u * qd;
+  Vec2 Suqd = Vec2::Zero();
+  double phi = pb[kTheta] + mk.angle, omega = vb[kTheta];
+  if (n > 0) {
+    CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
+    ubar.noalias() += mk.S_u * q;
+    Suqd.noalias() = mk.S_u * qd;
+    phi += mk.S_phi.transpose().dot(q);
+    omega += mk.S_phi.transpose().dot(qd);
+  }
+  const double thd = vb[kTheta];
   ms.Au = s.A * ubar;
   ms.ASqd = s.A * Suqd;
   ms.kin.position = Vec2(pb[kX], pb[kY]) + ms.Au;
   ms.kin.velocity = Vec2(vb[kX], vb[kY]) + Jm(ms.Au) * thd + ms.ASqd;
-  ms.kin.angle = pb[kTheta] + mk.angle + mk.S_phi.transpose().dot(q);
-  ms.kin.angular_velocity = thd + mk.S_phi.transpose().dot(qd);
+  ms.kin.angle = phi;
+  ms.kin.angular_velocity = omega;
   ms.conv_acc = -ms.Au * (thd * thd) + 2.0 * thd * Jm(ms.ASqd);  // a_v = A(−ūθ̇² + 2JS_uq̇θ̇)
 }
 
