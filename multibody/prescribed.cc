@@ -136,9 +136,10 @@ void PrescribedMotion::Motion(const Set& s, double t, double* p, double* v, doub
 void PrescribedMotion::Expand(double t, const double* y, const double* yp, double* y_full,
                               double* yp_full) const {
   const int n = size();
-  const int* __restrict kept = kept_unknowns_.data();
-  for (int i = 0; i < n; ++i) y_full[kept[i]] = y[i];
-  for (int i = 0; i < n; ++i) yp_full[kept[i]] = yp[i];
+  for (int i = 0; i < n; ++i) {
+    y_full[kept_unknowns_[i]] = y[i];
+    yp_full[kept_unknowns_[i]] = yp[i];
+  }
   ExpandPrescribed(t, y_full, yp_full);
 }
 
