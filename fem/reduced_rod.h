@@ -26,10 +26,15 @@ const char* ToString(ReductionMethod m);
 
 struct ReductionSpec {
   ReductionMethod method{ReductionMethod::kCraigBampton};
-  int num_modes{8};                 ///< fixed-interface (or free–free) normal modes kept, >= 0
-  double cutoff_hz{0.0};            ///< if > 0: keep all modes below this frequency instead [Hz]
-  std::vector<int> fixed_dofs;      ///< dofs fixed in the frame/support (default: all of node 0)
-  std::vector<int> interface_nodes; ///< CB interface nodes (default: the last node)
+  int num_modes{8};                  ///< fixed-interface (or free–free) normal modes kept, >= 0
+  double cutoff_hz{0.0};             ///< if > 0: keep all modes below this frequency instead [Hz]
+  std::vector<int> fixed_dofs;       ///< dofs fixed in the frame/support (default: all of node 0)
+  std::vector<int> interface_nodes;  ///< CB interface nodes (default: the last node)
+  /// Craig–Bampton only: add the two fixed-interface static responses to axial inertia loads
+  /// (uniform and linear in x), so that the element axial forces of the reduced rod can follow
+  /// the axial force's variation along the rod (inertia of the rod itself) and not only its
+  /// mean, which the interface's axial constraint mode carries. Two extra coordinates.
+  bool axial_load_modes{false};
   void Validate(const RodSpec& rod) const;
 };
 
@@ -39,14 +44,14 @@ ReductionSpec MechanismReduction(const RodSpec& rod, ReductionMethod m, int num_
 /// Planar FFRF inertia shape integrals (ffrf-planar.md, "Inertia shape integrals"), including
 /// the rigid attachments. n = number of elastic coordinates.
 struct PlanarInertia {
-  double mass{0.0};      ///< m = ∫ρ dV [kg]
-  Vec2 S0{0.0, 0.0};     ///< ∫ρ ū₀ dV [kg m]
-  Mat2X S;               ///< ∫ρ S dV, 2×n [kg]
-  double J0{0.0};        ///< ∫ρ ū₀ᵀū₀ dV [kg m²] (+ attachment own inertias)
-  Vec I1;                ///< ∫ρ Sᵀ ū₀ dV, n [kg m]
-  Vec Ibar;              ///< ∫ρ Sᵀ J ū₀ dV, n [kg m] (+ J_a S_φ,kᵀ for attachments)
-  Mat Mff;               ///< ∫ρ Sᵀ S dV, n×n [kg] (+ J_a S_φᵀS_φ, + rotary inertia if kept)
-  Mat Stilde;            ///< ∫ρ Sᵀ J S dV, n×n skew [kg]
+  double mass{0.0};   ///< m = ∫ρ dV [kg]
+  Vec2 S0{0.0, 0.0};  ///< ∫ρ ū₀ dV [kg m]
+  Mat2X S;            ///< ∫ρ S dV, 2×n [kg]
+  double J0{0.0};     ///< ∫ρ ū₀ᵀū₀ dV [kg m²] (+ attachment own inertias)
+  Vec I1;             ///< ∫ρ Sᵀ ū₀ dV, n [kg m]
+  Vec Ibar;           ///< ∫ρ Sᵀ J ū₀ dV, n [kg m] (+ J_a S_φ,kᵀ for attachments)
+  Mat Mff;            ///< ∫ρ Sᵀ S dV, n×n [kg] (+ J_a S_φᵀS_φ, + rotary inertia if kept)
+  Mat Stilde;         ///< ∫ρ Sᵀ J S dV, n×n skew [kg]
 };
 
 /// A point fixed to the rod: undeformed position in the frame and the rows that give its
@@ -60,39 +65,45 @@ struct MarkerShape {
 /// A virtual strain gauge: surface strain ε = (axial + bending) q at position x, fibre y.
 struct StrainGaugeRows {
   std::string name;
-  double x{0.0};            ///< axial position from the big-end node [m]
-  double y{0.0};            ///< fibre distance from the neutral axis, in-plane [m]
-  RowVec axial;             ///< u'(x) row [1]
-  RowVec bending;           ///< −y κ(x) row [1]
+  double x{0.0};   ///< axial position from the big-end node [m]
+  double y{0.0};   ///< fibre distance from the neutral axis, in-plane [m]
+  RowVec axial;    ///< u'(x) row [1]
+  RowVec bending;  ///< −y κ(x) row [1]
 };
 
 struct ModeReportRow {
   int index{0};
-  double full_hz{0.0};          ///< full-FE frequency [Hz]
-  double reduced_hz{0.0};       ///< reduced-model frequency [Hz]
-  double rel_error{0.0};        ///< (reduced − full)/full [-]
-  double mac{0.0};              ///< modal assurance criterion vs the full-FE mode [-]
-  double effective_mass{0.0};   ///< in-plane transverse effective modal mass [kg]
-  bool rigid_body{false};       ///< ≈ 0 Hz mode
+  double full_hz{0.0};         ///< full-FE frequency [Hz]
+  double reduced_hz{0.0};      ///< reduced-model frequency [Hz]
+  double rel_error{0.0};       ///< (reduced − full)/full [-]
+  double mac{0.0};             ///< modal assurance criterion vs the full-FE mode [-]
+  double effective_mass{0.0};  ///< in-plane transverse effective modal mass [kg]
+  bool rigid_body{false};      ///< ≈ 0 Hz mode
 };
 
 struct ReducedRod {
   RodSpec rod;
   ReductionSpec reduction;
-  Mat basis;                ///< Φ, num_dofs × n (rows of fixed dofs are zero)
-  Mat K;                    ///< Φᵀ K Φ, n×n
-  Mat M;                    ///< Φᵀ M Φ, n×n (equals inertia.Mff up to quadrature round-off)
-  Mat Kg;                   ///< Φᵀ K_G Φ per newton of axial tension, n×n
-  RowVec axial_force;       ///< N(q) = axial_force · q, mean axial force in the rod [N]
+  Mat basis;  ///< Φ, num_dofs × n (rows of fixed dofs are zero)
+  Mat K;      ///< Φᵀ K Φ, n×n
+  Mat M;      ///< Φᵀ M Φ, n×n (equals inertia.Mff up to quadrature round-off)
+  /// Geometric stiffness of the distributed axial force (planar rods; empty otherwise):
+  /// element e has the axial force N_e(q) = element_axial_force.row(e) · q [N] (EA times its
+  /// own axial strain) and the geometric stiffness N_e Φ_eᵀ K_G Φ_e, with Φ_e the basis rows of
+  /// its six dofs (ElementBasisRows) and K_G = element_Kg per newton of tension [1/m].
+  Mat element_axial_force;                 ///< num_elements × n [N per unit q]
+  Eigen::Matrix<double, 6, 6> element_Kg;  ///< planar frame K_G per newton of tension
   PlanarInertia inertia;
   std::vector<MarkerShape> nodes;  ///< one per FE node
-  Vec frequencies_hz;       ///< eigenfrequencies of (K, M) [Hz], ascending
+  Vec frequencies_hz;              ///< eigenfrequencies of (K, M) [Hz], ascending
 
   int num_coordinates() const { return static_cast<int>(K.rows()); }
   /// A marker at node `node` offset by `offset` in the rod frame (rigidly carried by the node).
   MarkerShape Marker(int node, const Vec2& offset) const;
   /// Gauge rows at axial position x [m] on fibre y [m].
   StrainGaugeRows Gauge(const std::string& name, double x, double y) const;
+  /// Φ_e: the basis rows of element e's six planar dofs (6 × n).
+  Eigen::Matrix<double, 6, Eigen::Dynamic> ElementBasisRows(int e) const;
 };
 
 /// Builds the reduced rod. Throws InputError for inconsistent specs (more modes than dofs...).

@@ -36,7 +36,6 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   }
   s->A << s->cos_theta, -s->sin_theta, s->sin_theta, s->cos_theta;
   s->s = b.S0;
-  s->axial = 0.0;
   const int n = b.num_modes;
   if (n == 0) return;
   CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
@@ -47,9 +46,15 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   s->c.noalias() += b.Stilde * q;
   s->Kq.noalias() = b.K * q;
   if (b.geometric_stiffening) {
-    s->Kgq.noalias() = b.Kg * q;
-    s->axial = b.axial_force.transpose().dot(q);
-    s->Kq += s->axial * s->Kgq;
+    // F_g = Σ_e Φ_eᵀ N_e K_G Φ_e q (FlexibleBodySpec::geometric_stiffening).
+    s->element_dofs.noalias() = b.element_rows * q;
+    s->element_force.noalias() = b.element_axial_force * q;
+    for (int e = 0; e < b.num_elements(); ++e) {
+      s->element_gq.segment<6>(6 * e).noalias() =
+          s->element_force(e) * (b.element_Kg * s->element_dofs.segment<6>(6 * e));
+    }
+    s->Fg.noalias() = b.element_rows.transpose() * s->element_gq;
+    s->Kq += s->Fg;
   }
   if (!dynamics) return;
   s->Dqd.noalias() = b.D * qd;
@@ -68,7 +73,7 @@ void FillMassMatrix(const Body& b, const BodyScratch& s, const double* pb, Mat* 
   double mtt = b.J0;
   if (n > 0) {
     CMap q(pb + kFirstMode, n);
-    mtt += b.I1.dot(q) + q.dot(s.w);  // J₀ + 2 I₁ᵀq + qᵀM_ff q
+    mtt += b.I1.dot(q) + q.dot(s.w);                // J₀ + 2 I₁ᵀq + qᵀM_ff q
     M->block(0, 3, 2, n).noalias() = s.A * b.Sbar;  // M_Rf = A S̄
     M->block(3, 0, n, 2) = M->block(0, 3, 2, n).transpose();
     M->block(2, 3, 1, n) = s.c.transpose();  // M_θf = Īᵀ + qᵀS̃ᵀ
@@ -249,7 +254,8 @@ void EvalJoint(const Mechanism& model, const RunData& data, const Joint& jt, con
       gv[1] = f.n.dot(kj.velocity - ki.velocity) - f.u.dot(f.d) * ki.angular_velocity;
       break;
     }
-    case JointKind::kGround: break;
+    case JointKind::kGround:
+      break;
   }
 }
 
@@ -273,12 +279,12 @@ void AddJointTransposeProduct(const Mechanism& model, const RunData& data, const
     case JointKind::kPrismatic: {
       const PrismaticFrame fr =
           PrismaticGeometry(jt, data.markers[jt.marker_i].kin, data.markers[jt.marker_j].kin);
-      AddMarkerForce(model, jt.marker_i, data, -w[1] * fr.n, -w[0] - w[1] * fr.u.dot(fr.d),
-                     target);
+      AddMarkerForce(model, jt.marker_i, data, -w[1] * fr.n, -w[0] - w[1] * fr.u.dot(fr.d), target);
       AddMarkerForce(model, jt.marker_j, data, w[1] * fr.n, w[0], target);
       break;
     }
-    case JointKind::kGround: break;
+    case JointKind::kGround:
+      break;
   }
 }
 
@@ -317,7 +323,8 @@ void FillJointJacobian(const Mechanism& model, RunData* data, const Joint& jt, J
       }
       break;
     }
-    case JointKind::kGround: break;
+    case JointKind::kGround:
+      break;
   }
 }
 
@@ -364,17 +371,22 @@ void FillJointHessian(const Mechanism& model, RunData* data, const Joint& jt, co
       if (b >= 0) AddMarkerHessian(model, jt.marker_j, *data, f.n, w1, js->Hbb);
       break;
     }
-    case JointKind::kGround: break;
+    case JointKind::kGround:
+      break;
   }
 }
 
 // Rows of a joint whose equation is non-linear in p (has a Hessian).
 bool RowHasHessian(const Joint& jt, int k) {
   switch (jt.kind) {
-    case JointKind::kRevolute: return true;
-    case JointKind::kWeld: return k < 2;
-    case JointKind::kPrismatic: return k == 1;
-    case JointKind::kGround: return false;
+    case JointKind::kRevolute:
+      return true;
+    case JointKind::kWeld:
+      return k < 2;
+    case JointKind::kPrismatic:
+      return k == 1;
+    case JointKind::kGround:
+      return false;
   }
   return false;
 }
@@ -404,12 +416,18 @@ void HessianTimesVelocity(const Mechanism& model, const Joint& jt, const double*
 // ---- element finite differences -----------------------------------------------------------------
 double& Component(MarkerKinematics& k, int c) {
   switch (c) {
-    case 0: return k.position.x();
-    case 1: return k.position.y();
-    case 2: return k.velocity.x();
-    case 3: return k.velocity.y();
-    case 4: return k.angle;
-    default: return k.angular_velocity;
+    case 0:
+      return k.position.x();
+    case 1:
+      return k.position.y();
+    case 2:
+      return k.velocity.x();
+    case 3:
+      return k.velocity.y();
+    case 4:
+      return k.angle;
+    default:
+      return k.angular_velocity;
   }
 }
 
@@ -521,8 +539,8 @@ void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId jo
 }
 
 // ---- public: residual ---------------------------------------------------------------------------
-int CalcResidual(const Mechanism& model, RunData* data, double t, const double* y,
-                 const double* yp, double* r) {
+int CalcResidual(const Mechanism& model, RunData* data, double t, const double* y, const double* yp,
+                 double* r) {
   const int np = model.num_coordinates(), nc = model.num_constraints();
   const int N = model.size();
   const double* p = y;
@@ -570,7 +588,7 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
       rb.tail(n) += s.Kq + s.Dqd;
       CMap qd(v + o + kFirstMode, n);
       diss_damping += qd.dot(s.Dqd);
-      if (b.geometric_stiffening) stiffening_power -= s.axial * qd.dot(s.Kgq);
+      if (b.geometric_stiffening) stiffening_power -= qd.dot(s.Fg);
     }
   }
 
@@ -712,19 +730,23 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
       J.block(R + kTheta, P + kFirstMode, 1, n) += s.tmp.head(n).transpose();
       s.tmp.head(n).noalias() = b.Mff * qd;
       J.block(R + kTheta, P + kFirstMode, 1, n) += 2.0 * thd * s.tmp.head(n).transpose();
-      J.block(R + kFirstMode, P + kFirstMode, n, n) +=
-          alpha * b.Stilde - thd * thd * b.Mff + b.K;
+      J.block(R + kFirstMode, P + kFirstMode, n, n) += alpha * b.Stilde - thd * thd * b.Mff + b.K;
       // Quadrature: damping power q̇ᵀDq̇.
       J.block(QD + kDissipatedDamping, V + kFirstMode, 1, n) -= 2.0 * s.Dqd.transpose();
       if (b.geometric_stiffening) {
-        J.block(R + kFirstMode, P + kFirstMode, n, n) += s.axial * b.Kg;
-        J.block(R + kFirstMode, P + kFirstMode, n, n).noalias() += s.Kgq * b.axial_force;
-        // Stiffening power P_s = −N(q) q̇ᵀK_g q.
-        J.block(QD + kStiffeningWork, V + kFirstMode, 1, n) += s.axial * s.Kgq.transpose();
-        const double qKq = qd.dot(s.Kgq);
-        s.tmp.head(n).noalias() = b.Kg * qd;
-        J.block(QD + kStiffeningWork, P + kFirstMode, 1, n) +=
-            qKq * b.axial_force + s.axial * s.tmp.head(n).transpose();
+        // ∂F_g/∂q = Σ_e Φ_eᵀ (N_e K_G Φ_e + (K_G Φ_e q) ∂N_e/∂q).
+        for (int e = 0; e < b.num_elements(); ++e) {
+          const auto rows = b.element_rows.middleRows(6 * e, 6);
+          const Eigen::Matrix<double, 6, 1> kw = b.element_Kg * s.element_dofs.segment<6>(6 * e);
+          auto je = s.element_jac.middleRows(6 * e, 6);
+          je.noalias() = s.element_force(e) * (b.element_Kg * rows);
+          je.noalias() += kw * b.element_axial_force.row(e);
+        }
+        s.Jg.noalias() = b.element_rows.transpose() * s.element_jac;
+        J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jg;
+        // Stiffening power P_s = −q̇ᵀ F_g(q).
+        J.block(QD + kStiffeningWork, V + kFirstMode, 1, n) += s.Fg.transpose();
+        J.block(QD + kStiffeningWork, P + kFirstMode, 1, n).noalias() += qd.transpose() * s.Jg;
       }
     }
   }
@@ -905,8 +927,7 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
   return 0;
 }
 
-int CalcElementRoots(const Mechanism& model, RunData* data, double t, const double* y,
-                     double* g) {
+int CalcElementRoots(const Mechanism& model, RunData* data, double t, const double* y, double* g) {
   if (model.num_element_roots() == 0) return 0;
   UpdateKinematics(model, data, y);
   const double* z = y + model.z_offset();
@@ -1065,7 +1086,8 @@ SparsityPattern JacobianPattern(const Mechanism& model) {
   return pat;
 }
 
-// ---- constraint pieces ----------------------------------------------------------------------------
+// ---- constraint pieces
+// ----------------------------------------------------------------------------
 void CalcConstraints(const Mechanism& model, RunData* data, double t, const Vec& p, Vec* g) {
   const int np = model.num_coordinates(), nc = model.num_constraints();
   FLEXROD_ASSERT(p.size() == np);
@@ -1121,8 +1143,8 @@ void CalcConstraintJacobian(const Mechanism& model, RunData* data, double t, con
   }
 }
 
-void CalcConstraintAccelerationRhs(const Mechanism& model, RunData* data, double t,
-                                   const Vec& p, const Vec& v, Vec* gamma) {
+void CalcConstraintAccelerationRhs(const Mechanism& model, RunData* data, double t, const Vec& p,
+                                   const Vec& v, Vec* gamma) {
   const int nc = model.num_constraints();
   UpdateAll(model, data, p.data(), v.data());
   gamma->setZero(nc);

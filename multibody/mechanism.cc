@@ -3,12 +3,11 @@
 #define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/mechanism.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
-
-#include <Eigen/Eigenvalues>
 
 #include "common/error.h"
 
@@ -38,19 +37,26 @@ std::vector<int> ActiveSlots(const Marker& m, int num_modes) {
 // ---- small value types -----------------------------------------------------------------------
 const char* ToString(JointKind kind) {
   switch (kind) {
-    case JointKind::kRevolute: return "revolute";
-    case JointKind::kPrismatic: return "prismatic";
-    case JointKind::kWeld: return "weld";
-    case JointKind::kGround: return "ground";
+    case JointKind::kRevolute:
+      return "revolute";
+    case JointKind::kPrismatic:
+      return "prismatic";
+    case JointKind::kWeld:
+      return "weld";
+    case JointKind::kGround:
+      return "ground";
   }
   return "?";
 }
 
 const char* ToString(DriverKind kind) {
   switch (kind) {
-    case DriverKind::kConstantSpeed: return "constant-speed";
-    case DriverKind::kSpeedProfile: return "speed-profile";
-    case DriverKind::kDcMotor: return "dc-motor";
+    case DriverKind::kConstantSpeed:
+      return "constant-speed";
+    case DriverKind::kSpeedProfile:
+      return "speed-profile";
+    case DriverKind::kDcMotor:
+      return "dc-motor";
   }
   return "?";
 }
@@ -78,13 +84,13 @@ DampingSpec DampingSpec::Rayleigh(double alpha, double beta) {
 
 void DampingSpec::Validate(const std::string& key, int num_modes) const {
   switch (kind) {
-    case DampingKind::kNone: break;
+    case DampingKind::kNone:
+      break;
     case DampingKind::kModalRatio: {
       const int n = static_cast<int>(modal_ratios.size());
       if (!(n == 1 || n == num_modes)) {
         throw InputError(key + ".modal_ratios", std::to_string(n) + " values",
-                         "must give one ratio or one per mode (" + std::to_string(num_modes) +
-                             ")");
+                         "must give one ratio or one per mode (" + std::to_string(num_modes) + ")");
       }
       for (int i = 0; i < n; ++i) {
         RequireNonNegative(key + ".modal_ratios[" + std::to_string(i) + "]", modal_ratios[i]);
@@ -117,16 +123,16 @@ void DcMotorSpec::Validate(const std::string& key) const {
 double SpeedProfile::Speed(double t) const {
   if (t <= times.front()) return speeds.front();
   if (t >= times.back()) return speeds.back();
-  const auto k = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) -
-                                     times.begin()) - 1;
+  const auto k =
+      static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
   const double slope = (speeds[k + 1] - speeds[k]) / (times[k + 1] - times[k]);
   return speeds[k] + slope * (t - times[k]);
 }
 
 double SpeedProfile::Acceleration(double t) const {
   if (t < times.front() || t >= times.back()) return 0.0;
-  const auto k = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) -
-                                     times.begin()) - 1;
+  const auto k =
+      static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin()) - 1;
   return (speeds[k + 1] - speeds[k]) / (times[k + 1] - times[k]);
 }
 
@@ -135,8 +141,8 @@ double SpeedProfile::Integral(double t) const {
   auto F = [this](double s) {
     if (s <= times.front()) return speeds.front() * (s - times.front());
     if (s >= times.back()) return cumulative.back() + speeds.back() * (s - times.back());
-    const auto k = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), s) -
-                                       times.begin()) - 1;
+    const auto k =
+        static_cast<size_t>(std::upper_bound(times.begin(), times.end(), s) - times.begin()) - 1;
     const double slope = (speeds[k + 1] - speeds[k]) / (times[k + 1] - times[k]);
     const double ds = s - times[k];
     return cumulative[k] + speeds[k] * ds + 0.5 * slope * ds * ds;
@@ -160,8 +166,7 @@ double Driver::PrescribedAcceleration(double t) const {
 }
 
 double Driver::MotorTorque(double body_speed) const {
-  return motor.ratio * motor.stall_torque *
-         (1.0 - motor.ratio * body_speed / motor.no_load_speed);
+  return motor.ratio * motor.stall_torque * (1.0 - motor.ratio * body_speed / motor.no_load_speed);
 }
 
 double Driver::MotorTorqueSlope() const {
@@ -208,7 +213,8 @@ std::string Mechanism::VariableName(int i) const {
       if (k >= b.coordinate_offset && k < b.coordinate_offset + b.num_coordinates()) {
         const int s = k - b.coordinate_offset;
         static const char* kFrame[] = {"x", "y", "theta"};
-        return b.name + "." + (s < 3 ? std::string(kFrame[s]) : std::string("q") + std::to_string(s - 3));
+        return b.name + "." +
+               (s < 3 ? std::string(kFrame[s]) : std::string("q") + std::to_string(s - 3));
       }
     }
     return std::string("?");
@@ -258,7 +264,8 @@ void MechanismBuilder::CheckNotBuilt() const {
 void MechanismBuilder::CheckName(const std::string& kind, const std::string& name) const {
   if (name.empty()) throw InputError(kind + ".name", "\"\"", "must not be empty");
   auto taken = [&name](const auto& items) {
-    return std::any_of(items.begin(), items.end(), [&name](const auto& x) { return x.name == name; });
+    return std::any_of(items.begin(), items.end(),
+                       [&name](const auto& x) { return x.name == name; });
   };
   bool dup = false;
   if (kind == "body") dup = taken(m_.bodies_);
@@ -271,7 +278,8 @@ void MechanismBuilder::CheckName(const std::string& kind, const std::string& nam
 
 void MechanismBuilder::CheckBody(BodyId body, const std::string& key) const {
   if (body.index < 0 || body.index >= static_cast<int>(m_.bodies_.size())) {
-    throw InputError(key, std::to_string(body.index), "must be a body of this builder (not ground)");
+    throw InputError(key, std::to_string(body.index),
+                     "must be a body of this builder (not ground)");
   }
 }
 
@@ -301,9 +309,7 @@ BodyId MechanismBuilder::AddRigidBody(const RigidBodySpec& spec) {
   b.Mff.resize(0, 0);
   b.Stilde.resize(0, 0);
   b.K.resize(0, 0);
-  b.Kg.resize(0, 0);
   b.D.resize(0, 0);
-  b.axial_force.resize(0);
   m_.bodies_.push_back(std::move(b));
   return BodyId{static_cast<int>(m_.bodies_.size()) - 1};
 }
@@ -318,10 +324,9 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   const int n = rod.num_coordinates();
   auto check_shape = [&](const Mat& m, int r, int c, const std::string& what) {
     if (m.rows() != r || m.cols() != c || !AllFinite(m)) {
-      throw InputError(key + ".rod." + what,
-                       std::to_string(m.rows()) + "x" + std::to_string(m.cols()),
-                       "must be a finite " + std::to_string(r) + "x" + std::to_string(c) +
-                           " matrix");
+      throw InputError(
+          key + ".rod." + what, std::to_string(m.rows()) + "x" + std::to_string(m.cols()),
+          "must be a finite " + std::to_string(r) + "x" + std::to_string(c) + " matrix");
     }
   };
   check_shape(rod.K, n, n, "K");
@@ -333,8 +338,11 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   RequirePositive(key + ".rod.inertia.mass", in.mass);
   RequirePositive(key + ".rod.inertia.J0", in.J0);
   if (spec.geometric_stiffening) {
-    check_shape(rod.Kg, n, n, "Kg");
-    check_shape(rod.axial_force, 1, n, "axial_force");
+    if (rod.rod.dim != fem::MeshDim::kPlanar) {
+      throw InputError(key + ".geometric_stiffening", "true", "needs a planar rod");
+    }
+    check_shape(rod.element_axial_force, rod.rod.num_elements, n, "element_axial_force");
+    check_shape(rod.basis, rod.rod.num_dofs(), n, "basis");
   }
   if (n > 0) {
     Eigen::LLT<Mat> llt(0.5 * (in.Mff + in.Mff.transpose()));
@@ -358,13 +366,14 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   b.Mff = 0.5 * (in.Mff + in.Mff.transpose());
   b.Stilde = 0.5 * (in.Stilde - in.Stilde.transpose());
   b.K = 0.5 * (rod.K + rod.K.transpose());
-  b.geometric_stiffening = spec.geometric_stiffening;
-  if (spec.geometric_stiffening) {
-    b.Kg = 0.5 * (rod.Kg + rod.Kg.transpose());
-    b.axial_force = rod.axial_force;
-  } else {
-    b.Kg = Mat::Zero(n, n);
-    b.axial_force = RowVec::Zero(n);
+  b.geometric_stiffening = spec.geometric_stiffening && n > 0;
+  b.element_Kg.setZero();
+  if (b.geometric_stiffening) {
+    const int ne = rod.rod.num_elements;
+    b.element_rows.resize(6 * ne, n);
+    for (int e = 0; e < ne; ++e) b.element_rows.middleRows(6 * e, 6) = rod.ElementBasisRows(e);
+    b.element_axial_force = rod.element_axial_force;
+    b.element_Kg = 0.5 * (rod.element_Kg + rod.element_Kg.transpose());
   }
   b.damping = spec.damping;
   b.rod = spec.rod;
@@ -374,8 +383,8 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   b.modal_frequencies_hz.resize(0);
   b.modal_damping_ratios.resize(0);
   if (n > 0) {
-    Eigen::GeneralizedSelfAdjointEigenSolver<Mat> ges(b.K, b.Mff, Eigen::ComputeEigenvectors |
-                                                                      Eigen::Ax_lBx);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Mat> ges(b.K, b.Mff,
+                                                      Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
     if (ges.info() != Eigen::Success) {
       throw NumericalError("body " + spec.name + ": eigenproblem of (K, M_ff) did not converge");
     }
@@ -437,8 +446,8 @@ MarkerId MechanismBuilder::AddGroundMarker(const std::string& name, const Vec2& 
   return MarkerId{AddMarkerImpl(std::move(m))};
 }
 
-MarkerId MechanismBuilder::AddBodyMarker(BodyId body, const std::string& name,
-                                         const Vec2& position, double angle) {
+MarkerId MechanismBuilder::AddBodyMarker(BodyId body, const std::string& name, const Vec2& position,
+                                         double angle) {
   CheckNotBuilt();
   CheckName("marker", name);
   CheckBody(body, "marker[" + name + "].body");
@@ -576,8 +585,8 @@ JointId MechanismBuilder::AddWeld(const std::string& name, MarkerId i, MarkerId 
   return JointId{static_cast<int>(m_.joints_.size()) - 1};
 }
 
-JointId MechanismBuilder::AddGroundJoint(const std::string& name, BodyId body,
-                                         const Vec2& position, double angle) {
+JointId MechanismBuilder::AddGroundJoint(const std::string& name, BodyId body, const Vec2& position,
+                                         double angle) {
   CheckNotBuilt();
   CheckName("joint", name);
   const std::string key = "joint[" + name + "]";
@@ -623,17 +632,18 @@ DriverId MechanismBuilder::AddSpeedProfileDriver(const std::string& name, BodyId
   CheckBody(body, key + ".body");
   Require(std::isfinite(initial_angle), key + ".initial_angle", initial_angle, "must be finite");
   if (times.size() < 2 || times.size() != speeds.size()) {
-    throw InputError(key + ".profile",
-                     std::to_string(times.size()) + " times, " + std::to_string(speeds.size()) +
-                         " speeds",
-                     "needs at least 2 (time, speed) pairs of equal length");
+    throw InputError(
+        key + ".profile",
+        std::to_string(times.size()) + " times, " + std::to_string(speeds.size()) + " speeds",
+        "needs at least 2 (time, speed) pairs of equal length");
   }
   for (size_t k = 0; k < times.size(); ++k) {
     const std::string ik = std::string("[") + std::to_string(k) + "]";
     Require(std::isfinite(times[k]), key + ".times" + ik, times[k], "must be finite");
     Require(std::isfinite(speeds[k]), key + ".speeds" + ik, speeds[k], "must be finite");
     if (k > 0) {
-      Require(times[k] > times[k - 1], key + ".times" + ik, times[k], "must be strictly increasing");
+      Require(times[k] > times[k - 1], key + ".times" + ik, times[k],
+              "must be strictly increasing");
     }
   }
   Driver d;
@@ -669,8 +679,7 @@ DriverId MechanismBuilder::AddDcMotorDriver(const std::string& name, BodyId body
 }
 
 ElementId MechanismBuilder::AddElementImpl(const std::string& name, MarkerId i, MarkerId j,
-                                           std::shared_ptr<const ForceElement> element,
-                                           int joint) {
+                                           std::shared_ptr<const ForceElement> element, int joint) {
   CheckName("element", name);
   const std::string key = "element[" + name + "]";
   CheckMarker(i, key + ".marker_i");
@@ -719,8 +728,8 @@ ElementId MechanismBuilder::AddSpringDamper(const std::string& name, MarkerId i,
 }
 
 ElementId MechanismBuilder::AddRotationalSpringDamper(const std::string& name, MarkerId i,
-                                                      MarkerId j, double stiffness,
-                                                      double damping, double free_angle) {
+                                                      MarkerId j, double stiffness, double damping,
+                                                      double free_angle) {
   CheckNotBuilt();
   auto e = std::make_shared<RotationalSpringDamper>("element[" + name + "]", stiffness, damping,
                                                     free_angle);
@@ -756,9 +765,9 @@ Mechanism MechanismBuilder::Build() {
   for (size_t d = 0; d < m_.drivers_.size(); ++d) {
     Driver& dr = m_.drivers_[d];
     if (driven[dr.body] >= 0) {
-      throw InputError("driver[" + dr.name + "].body", m_.bodies_[dr.body].name,
-                       "is already driven by " + m_.drivers_[driven[dr.body]].name +
-                           " (one driver per body)");
+      throw InputError(
+          "driver[" + dr.name + "].body", m_.bodies_[dr.body].name,
+          "is already driven by " + m_.drivers_[driven[dr.body]].name + " (one driver per body)");
     }
     driven[dr.body] = static_cast<int>(d);
     if (dr.kind == DriverKind::kDcMotor) {

@@ -67,7 +67,7 @@ enum class DampingKind { kNone, kModalRatio, kFrequencyBand, kRayleigh };
 /// D = α M_ff + β K.
 struct DampingSpec {
   DampingKind kind{DampingKind::kNone};
-  std::vector<double> modal_ratios;          ///< ζ_i per mode [-], >= 0; one value = all modes
+  std::vector<double> modal_ratios;             ///< ζ_i per mode [-], >= 0; one value = all modes
   double band_low_limit_hz{kBandLowLimitHz};    ///< [Hz]
   double band_high_limit_hz{kBandHighLimitHz};  ///< [Hz], > band_low_limit_hz
   double band_low_ratio{kBandLowRatio};         ///< ζ below band_low_limit_hz [-]
@@ -87,48 +87,51 @@ struct DampingSpec {
 // ---- specs (user input, validated by the builder) -----------------------------------------
 struct RigidBodySpec {
   std::string name;
-  double mass{0.0};          ///< [kg], > 0
-  double inertia{0.0};       ///< rotational inertia about the centre of mass [kg m^2], >= 0
-  Vec2 com{0.0, 0.0};        ///< centre of mass in the body frame [m]
+  double mass{0.0};     ///< [kg], > 0
+  double inertia{0.0};  ///< rotational inertia about the centre of mass [kg m^2], >= 0
+  Vec2 com{0.0, 0.0};   ///< centre of mass in the body frame [m]
 };
 
 struct FlexibleBodySpec {
   std::string name;
   std::shared_ptr<const fem::ReducedRod> rod;  ///< reduced rod (shared, immutable), non-null
   DampingSpec damping;
-  /// First-order geometric stiffening: K_eff(q) = K + N(q) K_g with N(q) = axial_force · q
-  /// (mean axial force of the reduced rod). A first-order correction, not a nonlinear-
-  /// geometry model; its force −N(q) K_g q is not conservative, so its work is book-kept
-  /// separately in the energy balance (Quadrature::kStiffeningWork).
-  bool geometric_stiffening{false};
+  /// Geometric stiffness of the distributed axial force: the elastic force gains
+  /// F_g(q) = Σ_e N_e(q) Φ_eᵀ K_G Φ_e q, with N_e = EA × element e's own axial strain
+  /// (fem::ReducedRod::element_axial_force). This is the second-order (P-delta) term of the
+  /// beam's strain energy with the axial force taken from the linear strain; together with the
+  /// exact frame motion it makes the body right to second order in the rotations, in any
+  /// attached frame. F_g is not a gradient, so its work is book-kept separately in the energy
+  /// balance (Quadrature::kStiffeningWork).
+  bool geometric_stiffening{true};
 };
 
 struct PrismaticSpec {
   std::string name;
-  MarkerId marker_i;            ///< the guide (axis fixed in this marker's frame)
-  MarkerId marker_j;            ///< the slider
-  Vec2 axis{1.0, 0.0};          ///< sliding direction in marker i's frame (normalised)
-  double relative_angle{0.0};   ///< held value of φ_j − φ_i [rad]
-  double damping{0.0};          ///< viscous damping along the axis [N s/m], >= 0
-  double friction_force{0.0};   ///< Coulomb friction force F_c [N], >= 0
+  MarkerId marker_i;           ///< the guide (axis fixed in this marker's frame)
+  MarkerId marker_j;           ///< the slider
+  Vec2 axis{1.0, 0.0};         ///< sliding direction in marker i's frame (normalised)
+  double relative_angle{0.0};  ///< held value of φ_j − φ_i [rad]
+  double damping{0.0};         ///< viscous damping along the axis [N s/m], >= 0
+  double friction_force{0.0};  ///< Coulomb friction force F_c [N], >= 0
   double friction_regularisation_speed{1e-3};  ///< s_reg in F_c tanh(s/s_reg) [m/s], > 0
 };
 
 struct DcMotorSpec {
-  double stall_torque{0.0};     ///< motor torque at zero speed [N m], > 0
-  double no_load_speed{0.0};    ///< motor speed at zero torque [rad/s], > 0
-  double ratio{1.0};            ///< belt ratio: motor speed / body speed [-], > 0
-  double flywheel_inertia{0.0}; ///< inertia on the driven body's axis [kg m^2], >= 0
-  double rotor_inertia{0.0};    ///< motor rotor inertia, reflected as ratio² J [kg m^2], >= 0
+  double stall_torque{0.0};      ///< motor torque at zero speed [N m], > 0
+  double no_load_speed{0.0};     ///< motor speed at zero torque [rad/s], > 0
+  double ratio{1.0};             ///< belt ratio: motor speed / body speed [-], > 0
+  double flywheel_inertia{0.0};  ///< inertia on the driven body's axis [kg m^2], >= 0
+  double rotor_inertia{0.0};     ///< motor rotor inertia, reflected as ratio² J [kg m^2], >= 0
   void Validate(const std::string& key) const;
 };
 
 /// Piecewise-linear speed table ω(t) (constant beyond the ends), integrated exactly.
 struct SpeedProfile {
-  std::vector<double> times;    ///< [s], strictly increasing, >= 2 entries
-  std::vector<double> speeds;   ///< [rad/s], same length
+  std::vector<double> times;       ///< [s], strictly increasing, >= 2 entries
+  std::vector<double> speeds;      ///< [rad/s], same length
   std::vector<double> cumulative;  ///< ∫_{t_0}^{t_k} ω ds at each knot [rad] (set by the builder)
-  double Speed(double t) const;         ///< ω(t) [rad/s]
+  double Speed(double t) const;    ///< ω(t) [rad/s]
   double Acceleration(double t) const;  ///< dω/dt (right limit at knots) [rad/s^2]
   double Integral(double t) const;      ///< ∫_0^t ω ds [rad]
 };
@@ -140,26 +143,28 @@ struct Body {
   int coordinate_offset{0};  ///< index of x in p
   int num_modes{0};          ///< n
   // FFRF inertia shape integrals (ffrf-planar.md); rigid: n = 0.
-  double mass{0.0};          ///< m [kg]
-  Vec2 S0{0.0, 0.0};         ///< ∫ρ ū₀ [kg m]
-  Mat2X Sbar;                ///< ∫ρ S, 2×n [kg]
-  double J0{0.0};            ///< ∫ρ ū₀ᵀū₀ about the frame origin, + driver inertia [kg m^2]
-  Vec I1;                    ///< ∫ρ Sᵀū₀ [kg m]
-  Vec Ibar;                  ///< ∫ρ SᵀJū₀ [kg m]
-  Mat Mff;                   ///< ∫ρ SᵀS [kg]
-  Mat Stilde;                ///< ∫ρ SᵀJS (skew) [kg]
+  double mass{0.0};   ///< m [kg]
+  Vec2 S0{0.0, 0.0};  ///< ∫ρ ū₀ [kg m]
+  Mat2X Sbar;         ///< ∫ρ S, 2×n [kg]
+  double J0{0.0};     ///< ∫ρ ū₀ᵀū₀ about the frame origin, + driver inertia [kg m^2]
+  Vec I1;             ///< ∫ρ Sᵀū₀ [kg m]
+  Vec Ibar;           ///< ∫ρ SᵀJū₀ [kg m]
+  Mat Mff;            ///< ∫ρ SᵀS [kg]
+  Mat Stilde;         ///< ∫ρ SᵀJS (skew) [kg]
   double driver_inertia{0.0};  ///< flywheel + reflected rotor inertia included in J0 [kg m^2]
   // Elastic forces.
-  Mat K;                     ///< n×n
-  Mat Kg;                    ///< n×n geometric stiffness per newton of axial force
-  RowVec axial_force;        ///< N(q) = axial_force · q [N]
+  Mat K;  ///< n×n
   bool geometric_stiffening{false};
-  Mat D;                     ///< n×n damping
+  Mat element_rows;         ///< [Φ_0; Φ_1; …] (6 num_elements × n), geometric stiffening only
+  Mat element_axial_force;  ///< num_elements × n: N_e = row e · q [N]
+  Eigen::Matrix<double, 6, 6> element_Kg;  ///< K_G per newton of tension [1/m]
+  int num_elements() const { return static_cast<int>(element_axial_force.rows()); }
+  Mat D;  ///< n×n damping
   DampingSpec damping;
   Vec modal_frequencies_hz;  ///< eigenfrequencies of (K, M_ff) [Hz] (empty if rigid)
   Vec modal_damping_ratios;  ///< ζ_i used (modal kinds) [-]
   std::shared_ptr<const fem::ReducedRod> rod;  ///< null for rigid bodies
-  /// Structural non-zero mask of the q–q block (union of M_ff, S̃, K, D, K_g; dense with
+  /// Structural non-zero mask of the q–q block (union of M_ff, S̃, K, D; dense with
   /// geometric stiffening), for the sparse Jacobian pattern.
   std::vector<std::vector<bool>> qq_mask;
 
@@ -169,12 +174,12 @@ struct Body {
 
 struct Marker {
   std::string name;
-  int body{-1};              ///< body index, −1 = ground
-  Vec2 position{0.0, 0.0};   ///< ū₀ in the body frame (ground: world) [m]
-  double angle{0.0};         ///< orientation of the marker frame relative to the body frame [rad]
-  Mat2X S_u;                 ///< 2×n elastic displacement rows [m]
-  RowVec S_phi;              ///< 1×n elastic rotation row [rad]
-  int node{-1};              ///< FE node of a flexible body, −1 otherwise
+  int body{-1};             ///< body index, −1 = ground
+  Vec2 position{0.0, 0.0};  ///< ū₀ in the body frame (ground: world) [m]
+  double angle{0.0};        ///< orientation of the marker frame relative to the body frame [rad]
+  Mat2X S_u;                ///< 2×n elastic displacement rows [m]
+  RowVec S_phi;             ///< 1×n elastic rotation row [rad]
+  int node{-1};             ///< FE node of a flexible body, −1 otherwise
   /// Body coordinate slots that move this marker (frame slots and q_k with non-zero rows).
   std::vector<int> active_slots;
 };
@@ -185,16 +190,16 @@ const char* ToString(JointKind kind);
 struct Joint {
   std::string name;
   JointKind kind{JointKind::kRevolute};
-  int marker_i{-1};          ///< revolute/prismatic/weld
+  int marker_i{-1};  ///< revolute/prismatic/weld
   int marker_j{-1};
-  int body{-1};              ///< kGround: the grounded body
+  int body{-1};                    ///< kGround: the grounded body
   Vec2 ground_position{0.0, 0.0};  ///< kGround: held frame origin [m]
   double ground_angle{0.0};        ///< kGround: held frame angle [rad]
-  Vec2 axis{1.0, 0.0};       ///< kPrismatic: unit axis in marker i's frame
-  double relative_angle{0.0};  ///< kPrismatic/kWeld: held φ_j − φ_i [rad]
-  int row{0};                ///< first constraint row (index into λ and μ)
-  int num_rows{0};           ///< 2 (revolute, prismatic) or 3 (weld, ground)
-  int guide_element{-1};     ///< kPrismatic: index of its damper/friction element, or −1
+  Vec2 axis{1.0, 0.0};             ///< kPrismatic: unit axis in marker i's frame
+  double relative_angle{0.0};      ///< kPrismatic/kWeld: held φ_j − φ_i [rad]
+  int row{0};                      ///< first constraint row (index into λ and μ)
+  int num_rows{0};                 ///< 2 (revolute, prismatic) or 3 (weld, ground)
+  int guide_element{-1};           ///< kPrismatic: index of its damper/friction element, or −1
 };
 
 enum class DriverKind { kConstantSpeed, kSpeedProfile, kDcMotor };
@@ -224,13 +229,13 @@ struct ElementSlot {
   int marker_i{-1};
   int marker_j{-1};
   std::shared_ptr<const ForceElement> element;
-  int state_offset{0};   ///< first state in z (relative to the z block)
+  int state_offset{0};  ///< first state in z (relative to the z block)
   int num_states{0};
   int memory_offset{0};  ///< first entry in RunData::element_memory
   int num_memory{0};
-  int root_offset{0};    ///< first root among the element roots
+  int root_offset{0};  ///< first root among the element roots
   int num_roots{0};
-  int joint{-1};         ///< prismatic joint this guide element belongs to, or −1
+  int joint{-1};  ///< prismatic joint this guide element belongs to, or −1
 };
 
 /// Quadrature states appended to z (energy bookkeeping), in this order.
@@ -238,7 +243,7 @@ enum Quadrature : int {
   kDissipatedElements = 0,  ///< ∫ Σ element dissipation dt [J]
   kDissipatedDamping = 1,   ///< ∫ Σ q̇ᵀ D q̇ dt (modal/Rayleigh damping) [J]
   kDriverWork = 2,          ///< ∫ Σ driver torque · θ̇ dt [J]
-  kStiffeningWork = 3,      ///< ∫ Σ q̇ᵀ(−N(q) K_g q) dt [J]
+  kStiffeningWork = 3,  ///< ∫ Σ q̇ᵀ(−F_g(q)) dt (FlexibleBodySpec::geometric_stiffening) [J]
   kNumQuadratures = 4
 };
 
@@ -247,13 +252,14 @@ enum Quadrature : int {
 class Mechanism {
  public:
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
-  int num_coordinates() const { return num_coordinates_; }   ///< np
-  int num_constraints() const { return num_constraints_; }   ///< nc
+  int num_coordinates() const { return num_coordinates_; }  ///< np
+  int num_constraints() const { return num_constraints_; }  ///< nc
   int num_element_states() const { return num_element_states_; }
   int num_element_memory() const { return num_element_memory_; }
   int num_element_roots() const { return num_element_roots_; }
-  int size() const { return 2 * num_coordinates_ + 2 * num_constraints_ + num_element_states_ +
-                            kNumQuadratures; }  ///< N
+  int size() const {
+    return 2 * num_coordinates_ + 2 * num_constraints_ + num_element_states_ + kNumQuadratures;
+  }  ///< N
   int max_body_coordinates() const { return max_body_coordinates_; }
 
   int p_offset() const { return 0; }
@@ -327,8 +333,7 @@ class MechanismBuilder {
   JointId AddPrismatic(const PrismaticSpec& spec);
   JointId AddWeld(const std::string& name, MarkerId i, MarkerId j, double relative_angle = 0.0);
   /// Fixes the body's frame coordinates (x, y, θ).
-  JointId AddGroundJoint(const std::string& name, BodyId body, const Vec2& position,
-                         double angle);
+  JointId AddGroundJoint(const std::string& name, BodyId body, const Vec2& position, double angle);
 
   /// θ_body = θ0 + ω t (rheonomic constraint; its multiplier gives the driver torque).
   DriverId AddConstantSpeedDriver(const std::string& name, BodyId body, double initial_angle,

@@ -80,8 +80,8 @@ DriverState CalcDriverState(const Mechanism& model, DriverId driver, const doubl
   return s;
 }
 
-ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId element,
-                                double t, const double* y) {
+ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId element, double t,
+                                const double* y) {
   const ElementSlot& e = model.element(element);
   ElementScratch& es = data->elements[element.index];
   const MarkerKinematics& ki = data->markers[e.marker_i].kin;
@@ -124,7 +124,7 @@ EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y
     e.gravity -= g.dot(b.mass * R + s.A * s.s);
     if (n > 0) {
       CMap q(y + o + kFirstMode, n);
-      e.strain += 0.5 * (q.dot(s.Kq) - s.axial * q.dot(s.Kgq));  // ½ qᵀKq
+      e.strain += 0.5 * q.dot(s.Kq - s.Fg);  // ½ qᵀKq
     }
   }
   const double* z = y + model.z_offset();
@@ -134,10 +134,9 @@ EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y
     const ElementSlot& el = elements[i];
     e.element_potential += static_cast<int>(i) == known.element
                                ? known.energy
-                               : el.element->PotentialEnergy(data->markers[el.marker_i].kin,
-                                                             data->markers[el.marker_j].kin,
-                                                             z + el.state_offset,
-                                                             mem + el.memory_offset);
+                               : el.element->PotentialEnergy(
+                                     data->markers[el.marker_i].kin, data->markers[el.marker_j].kin,
+                                     z + el.state_offset, mem + el.memory_offset);
   }
   const double* quad = y + model.quadrature_offset();
   e.dissipated_elements = quad[kDissipatedElements];

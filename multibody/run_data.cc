@@ -14,7 +14,13 @@ void ResizeBodyScratch(const Body& b, BodyScratch* s) {
   s->w = Vec::Zero(n);
   s->c = Vec::Zero(n);
   s->Kq = Vec::Zero(n);
-  s->Kgq = Vec::Zero(n);
+  s->Fg = Vec::Zero(n);
+  const int ne = b.geometric_stiffening ? b.num_elements() : 0;
+  s->element_dofs = Vec::Zero(6 * ne);
+  s->element_force = Vec::Zero(ne);
+  s->element_gq = Vec::Zero(6 * ne);
+  s->element_jac = Mat::Zero(6 * ne, n);
+  s->Jg = Mat::Zero(n, n);
   s->Dqd = Vec::Zero(n);
   s->Sqd = Vec::Zero(n);
   s->M = Mat::Zero(nb, nb);

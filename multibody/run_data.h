@@ -19,50 +19,54 @@ namespace flexrod::multibody {
 struct BodyScratch {
   double cos_theta{1.0}, sin_theta{0.0};
   double trig_theta{0.0};  ///< θ that cos_theta, sin_theta belong to (reused when θ repeats)
-  Mat2 A;          ///< A(θ)
-  Vec2 s;          ///< S̄₀ + S̄ q [kg m]
-  Vec w;           ///< I₁ + M_ff q (n) [kg m]
-  Vec c;           ///< Ī + S̃ q (n) [kg m]
-  Vec Kq;          ///< (K + N(q) K_g) q (n) [N]
-  Vec Kgq;         ///< K_g q (n)
-  Vec Dqd;         ///< D q̇ (n) [N]
-  Vec Sqd;         ///< S̃ q̇ (n)
-  double axial{0.0};  ///< N(q) [N]
-  Mat M;           ///< mass matrix (nb × nb)
-  Vec Qv;          ///< quadratic-velocity vector (nb)
-  Vec tmp;         ///< nb
-  Mat2X AS;        ///< A S̄ (2×n), Jacobian only
+  Mat2 A;                  ///< A(θ)
+  Vec2 s;                  ///< S̄₀ + S̄ q [kg m]
+  Vec w;                   ///< I₁ + M_ff q (n) [kg m]
+  Vec c;                   ///< Ī + S̃ q (n) [kg m]
+  Vec Kq;                  ///< K q + F_g(q) (n) [N]
+  Vec Fg;                  ///< F_g(q), the geometric-stiffness force (n) [N]
+  Vec element_dofs;        ///< Φ_e q stacked over the elements (6 num_elements) [m, rad]
+  Vec element_force;       ///< N_e(q) (num_elements) [N]
+  Vec element_gq;          ///< N_e K_G Φ_e q stacked (6 num_elements) [N]
+  Mat element_jac;         ///< ∂(element_gq)/∂q (6 num_elements × n), Jacobian only
+  Mat Jg;                  ///< ∂F_g/∂q (n × n), Jacobian only
+  Vec Dqd;                 ///< D q̇ (n) [N]
+  Vec Sqd;                 ///< S̃ q̇ (n)
+  Mat M;                   ///< mass matrix (nb × nb)
+  Vec Qv;                  ///< quadratic-velocity vector (nb)
+  Vec tmp;                 ///< nb
+  Mat2X AS;                ///< A S̄ (2×n), Jacobian only
 };
 
 /// World kinematics of a marker at the current state plus its Jacobian pieces.
 struct MarkerScratch {
-  MarkerKinematics kin;   ///< position, velocity, angle, angular velocity
-  Vec2 Au{0.0, 0.0};      ///< A ū (world offset from the frame origin) [m]
-  Vec2 ASqd{0.0, 0.0};    ///< A S_u q̇ [m/s]
+  MarkerKinematics kin;     ///< position, velocity, angle, angular velocity
+  Vec2 Au{0.0, 0.0};        ///< A ū (world offset from the frame origin) [m]
+  Vec2 ASqd{0.0, 0.0};      ///< A S_u q̇ [m/s]
   Vec2 conv_acc{0.0, 0.0};  ///< convective acceleration a_v = r̈ − L p̈ [m/s^2]
-  Mat2X Jr;               ///< ∂r/∂p_b (2 × nb)
-  RowVec Jphi;            ///< ∂φ/∂p_b (1 × nb)
-  Mat2X C;                ///< ∂(Jr v_b)/∂p_b (2 × nb)
-  Mat2X AS;               ///< A S_u (2 × n)
+  Mat2X Jr;                 ///< ∂r/∂p_b (2 × nb)
+  RowVec Jphi;              ///< ∂φ/∂p_b (1 × nb)
+  Mat2X C;                  ///< ∂(Jr v_b)/∂p_b (2 × nb)
+  Mat2X AS;                 ///< A S_u (2 × n)
 };
 
 struct JointScratch {
-  Mat Ga, Gb;                 ///< constraint Jacobian blocks (rows × nb_i, rows × nb_j)
-  Mat Haa, Hab, Hba, Hbb;     ///< weighted constraint Hessian blocks
-  Vec va, vb, ha, hb;         ///< velocities of the two bodies and Hessian-vector products
+  Mat Ga, Gb;              ///< constraint Jacobian blocks (rows × nb_i, rows × nb_j)
+  Mat Haa, Hab, Hba, Hbb;  ///< weighted constraint Hessian blocks
+  Vec va, vb, ha, hb;      ///< velocities of the two bodies and Hessian-vector products
 };
 
 struct ElementScratch {
-  ElementOutput out;          ///< last evaluation
-  Vec zdot;                   ///< ż (num_states)
-  Vec z_fd;                   ///< perturbed states
+  ElementOutput out;  ///< last evaluation
+  Vec zdot;           ///< ż (num_states)
+  Vec z_fd;           ///< perturbed states
   Vec zdot_fd;
-  Vec o_plus, o_minus;        ///< stacked outputs [F_i, M_i, F_j, M_j, diss, ż] (7 + ns)
-  Mat Do;                     ///< ∂o/∂κ, κ = [r_i, ṙ_i, φ_i, ω_i, r_j, ṙ_j, φ_j, ω_j]
-  Mat Dz;                     ///< ∂o/∂z
-  Mat Kp_i, Kv_i, Kp_j, Kv_j; ///< ∂κ_m/∂p_b, ∂κ_m/∂v_b (6 × nb)
-  Mat Gen_i, Gen_j;           ///< [Jr; Jφ] (3 × nb)
-  Mat T;                      ///< scratch (7 + ns) × nb_max
+  Vec o_plus, o_minus;  ///< stacked outputs [F_i, M_i, F_j, M_j, diss, ż] (7 + ns)
+  Mat Do;               ///< ∂o/∂κ, κ = [r_i, ṙ_i, φ_i, ω_i, r_j, ṙ_j, φ_j, ω_j]
+  Mat Dz;               ///< ∂o/∂z
+  Mat Kp_i, Kv_i, Kp_j, Kv_j;  ///< ∂κ_m/∂p_b, ∂κ_m/∂v_b (6 × nb)
+  Mat Gen_i, Gen_j;            ///< [Jr; Jφ] (3 × nb)
+  Mat T;                       ///< scratch (7 + ns) × nb_max
   /// Wall time spent in this element in residuals and Jacobians (RunData::time_elements) [s].
   double seconds{0.0};
 };
@@ -80,7 +84,7 @@ class RunData {
   std::vector<int> body_markers;       ///< the markers on bodies, which UpdateAll refreshes
   std::vector<JointScratch> joints;
   std::vector<ElementScratch> elements;
-  Vec Q;                            ///< applied generalized forces (np)
+  Vec Q;  ///< applied generalized forces (np)
   /// Per-run element memory (ForceElement::num_memory each, at ElementSlot::memory_offset).
   std::vector<double> element_memory;
   /// Mechanical energy + dissipated − work at the start of the run: the energy balance

@@ -34,7 +34,8 @@ fem::RodSpec RodFromConfig(const Config& cfg) {
   rod.num_elements = cfg.Integer("rod.elements");
   rod.theory = cfg.Text("rod.element") == "timoshenko" ? fem::BeamTheory::kTimoshenko
                                                        : fem::BeamTheory::kEulerBernoulli;
-  rod.mass_kind = cfg.Text("rod.mass") == "lumped" ? fem::MassKind::kLumped : fem::MassKind::kConsistent;
+  rod.mass_kind =
+      cfg.Text("rod.mass") == "lumped" ? fem::MassKind::kLumped : fem::MassKind::kConsistent;
   rod.Validate();
   return rod;
 }
@@ -44,11 +45,15 @@ fem::ReductionSpec MechanismReductionFromConfig(const Config& cfg, const fem::Ro
       fem::ReductionMethodFromString("reduction.method", cfg.Text("reduction.method"));
   fem::ReductionSpec spec = fem::MechanismReduction(rod, method, cfg.Integer("reduction.modes"));
   spec.cutoff_hz = cfg.Quantity("reduction.cutoff");
+  spec.axial_load_modes = cfg.Bool("reduction.axial_modes") &&
+                          (method == fem::ReductionMethod::kCraigBampton ||
+                           method == fem::ReductionMethod::kOrthonormalCraigBampton);
   spec.Validate(rod);
   return spec;
 }
 
-std::vector<int> InterfaceNodes(const std::string& key, const std::string& text, const fem::RodSpec& rod) {
+std::vector<int> InterfaceNodes(const std::string& key, const std::string& text,
+                                const fem::RodSpec& rod) {
   const int last = rod.num_nodes() - 1;
   if (text == "small-end") return {last};
   if (text == "ends") return {0, last};
@@ -64,7 +69,8 @@ std::vector<int> InterfaceNodes(const std::string& key, const std::string& text,
       used = 0;
     }
     if (used == 0 || used != item.size()) {
-      throw InputError(key, text, "must be small-end, ends, or a comma-separated list of node numbers");
+      throw InputError(key, text,
+                       "must be small-end, ends, or a comma-separated list of node numbers");
     }
     Require(node >= 0 && node <= last, key, node, "node must be in 0.." + std::to_string(last));
     nodes.push_back(node);

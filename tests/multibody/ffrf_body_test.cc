@@ -39,6 +39,7 @@ Fixture Make(DampingSpec damping = DampingSpec::None()) {
   s.name = "rod";
   s.rod = f.rod;
   s.damping = damping;
+  s.geometric_stiffening = false;  // the linear FFRF equations of ffrf-planar.md
   b.AddFlexibleBody(s);
   f.model = b.Build();
   return f;
@@ -103,8 +104,8 @@ TEST(FfrfBody, KineticEnergyAndQuadraticVelocityEqualThePointCloudSums) {
       const Vec2 rdot = L * v;
       T_cloud += 0.5 * f.cloud.m[k] * rdot.squaredNorm();
       const Vec2 ubar = f.cloud.u0[k] + f.cloud.S[k] * p.tail(kModes);
-      const Vec2 av = -A * ubar * v(2) * v(2) +
-                      2.0 * A * Jmat() * f.cloud.S[k] * v.tail(kModes) * v(2);
+      const Vec2 av =
+          -A * ubar * v(2) * v(2) + 2.0 * A * Jmat() * f.cloud.S[k] * v.tail(kModes) * v(2);
       Qv_cloud -= f.cloud.m[k] * L.transpose() * av;
     }
     EXPECT_NEAR(0.5 * v.dot(M * v), T_cloud, 1e-12 * T_cloud);
@@ -124,8 +125,8 @@ TEST(FfrfBody, QuadraticVelocitySatisfiesTheLagrangeIdentity) {
     const Vec p = RandomVec(nb, gen, 1.0);
     const Vec v = RandomVec(nb, gen, 2.0);
     const double h = 1e-5;
-    const Mat Mdot = (BodyMassMatrix(f.body(), p + h * v) - BodyMassMatrix(f.body(), p - h * v)) /
-                     (2.0 * h);
+    const Mat Mdot =
+        (BodyMassMatrix(f.body(), p + h * v) - BodyMassMatrix(f.body(), p - h * v)) / (2.0 * h);
     Vec dTdp(nb);
     for (int i = 0; i < nb; ++i) {
       Vec pp = p, pm = p;
@@ -231,8 +232,9 @@ TEST(FfrfBody, FrequencyBandDampingAssignsRatiosByBand) {
   int checked_bands = 0;
   for (int i = 0; i < kModes; ++i) {
     const double fz = b.modal_frequencies_hz(i);
-    const double expected = fz < kBandLowLimitHz ? kBandLowRatio
-                            : fz < kBandHighLimitHz ? kBandMidRatio : kBandHighRatio;
+    const double expected = fz < kBandLowLimitHz    ? kBandLowRatio
+                            : fz < kBandHighLimitHz ? kBandMidRatio
+                                                    : kBandHighRatio;
     EXPECT_EQ(b.modal_damping_ratios(i), expected) << fz << " Hz";
     checked_bands += 1;
   }

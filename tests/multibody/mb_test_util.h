@@ -6,16 +6,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cmath>
-#include <memory>
-#include <utility>
-#include <numbers>
 #include <iomanip>
+#include <memory>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
+#include <utility>
 
 #include "fem/reduced_rod.h"
 #include "multibody/mechanism.h"
@@ -105,8 +105,8 @@ SliderCrankModel ConnectSliderCrank(MechanismBuilder& b, const SliderCrankParams
 
 inline SliderCrankModel BuildRigidSliderCrank(const SliderCrankParams& P) {
   MechanismBuilder b;
-  const BodyId crank = b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0,
-                                       Vec2(0.5 * P.r, 0.0)});
+  const BodyId crank =
+      b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0, Vec2(0.5 * P.r, 0.0)});
   const BodyId rod =
       b.AddRigidBody({"rod", P.m_rod, P.m_rod * P.l * P.l / 12.0, Vec2(0.5 * P.l, 0.0)});
   const BodyId slider = b.AddRigidBody({"slider", P.m_slider, 1e-4, Vec2(0.0, 0.0)});
@@ -133,10 +133,9 @@ inline InitialConditionSpec SliderCrankGuess(const SliderCrankModel& m, const Sl
 
 /// A steel rod reduced with fem::Reduce (Craig–Bampton, frame on node 0, interface the last
 /// node): thickness × height = 6.35 × 19.05 mm, in-plane weak axis, length l.
-inline std::shared_ptr<const fem::ReducedRod> MakeSteelRod(double length, int elements, int modes,
-                                                          double stiffness_factor = 1.0,
-                                                          fem::ReductionMethod method =
-                                                              fem::ReductionMethod::kCraigBampton) {
+inline std::shared_ptr<const fem::ReducedRod> MakeSteelRod(
+    double length, int elements, int modes, double stiffness_factor = 1.0,
+    fem::ReductionMethod method = fem::ReductionMethod::kCraigBampton) {
   fem::RodSpec rod;
   rod.material = fem::MaterialByName("steel");
   rod.material.youngs_modulus *= stiffness_factor;
@@ -156,8 +155,8 @@ inline SliderCrankModel BuildFlexibleSliderCrank(const SliderCrankParams& P,
                                                  DampingSpec damping = DampingSpec::FrequencyBand(),
                                                  bool stiffening = false) {
   MechanismBuilder b;
-  const BodyId crank = b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0,
-                                       Vec2(0.5 * P.r, 0.0)});
+  const BodyId crank =
+      b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0, Vec2(0.5 * P.r, 0.0)});
   FlexibleBodySpec fs;
   fs.name = "rod";
   fs.rod = rod;
@@ -166,7 +165,8 @@ inline SliderCrankModel BuildFlexibleSliderCrank(const SliderCrankParams& P,
   const BodyId rb = b.AddFlexibleBody(fs);
   const BodyId slider = b.AddRigidBody({"slider", P.m_slider, 1e-4, Vec2(0.0, 0.0)});
   return ConnectSliderCrank(b, P, crank, rb, slider, [&](MechanismBuilder& mb) {
-    return std::pair{mb.AddNodeMarker(rb, "rod.A", 0), mb.AddNodeMarker(rb, "rod.B", rod->rod.num_nodes() - 1)};
+    return std::pair{mb.AddNodeMarker(rb, "rod.A", 0),
+                     mb.AddNodeMarker(rb, "rod.B", rod->rod.num_nodes() - 1)};
   });
 }
 
@@ -186,9 +186,9 @@ inline Mat2 Jmat() {
 }
 
 inline std::shared_ptr<fem::ReducedRod> MakeSyntheticRod(int n, int points, unsigned seed,
-                                                        PointCloud* cloud_out = nullptr,
-                                                        double stiffness = 4e4,
-                                                        double length = 0.2) {
+                                                         PointCloud* cloud_out = nullptr,
+                                                         double stiffness = 4e4,
+                                                         double length = 0.2) {
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   auto rod = std::make_shared<fem::ReducedRod>();
@@ -232,9 +232,17 @@ inline std::shared_ptr<fem::ReducedRod> MakeSyntheticRod(int n, int points, unsi
   Mat C(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) C(i, j) = U(gen);
-  rod->Kg = 10.0 * (C + C.transpose());
-  rod->axial_force = RowVec(n);
-  for (int j = 0; j < n; ++j) rod->axial_force(j) = 1e3 * U(gen);
+  // Geometric stiffness of a synthetic 3-element rod: random element rows, forces and K_G.
+  rod->rod.num_elements = 3;
+  rod->basis = Mat(rod->rod.num_dofs(), n);
+  for (int i = 0; i < rod->basis.rows(); ++i)
+    for (int j = 0; j < n; ++j) rod->basis(i, j) = 0.5 * U(gen);
+  rod->element_axial_force = Mat(3, n);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < n; ++j) rod->element_axial_force(i, j) = 1e3 * U(gen);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) rod->element_Kg(i, j) = U(gen) + C(i % n, j % n);
+  rod->element_Kg = 5.0 * (rod->element_Kg + rod->element_Kg.transpose()).eval();
   rod->frequencies_hz = Vec::Zero(n);
   if (cloud_out != nullptr) *cloud_out = cloud;
   return rod;

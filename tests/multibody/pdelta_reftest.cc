@@ -1,0 +1,156 @@
+// tests/multibody/pdelta_reftest.cc — the reduced rod under axial load, statically, in the
+// mechanism's own frame: the rod pinned at its big-end node to the ground and at its small-end
+// node to a slider on a guide along the rod (the connecting rod of a slider-crank at dead
+// centre), an axial dead load P through the slider and a small lateral load Q at midspan. The
+// floating frame is clamped to the big-end node (tangent frame), as in every run.
+//
+// Reference: the beam-column (second-order theory, Timoshenko & Gere, Theory of Elastic
+// Stability, 2nd ed., §1.11): the midspan deflection of a pinned–pinned beam under a central
+// load Q and an axial force P is δ = Q L³/(48 E I) · χ(u), u = (L/2) √(|P|/EI), with
+// χ = 3 (tan u − u)/u³ in compression and 3 (u − tanh u)/u³ in tension. The ratio δ(P)/δ(0)
+// = χ(u) is what the geometric stiffness must give; the geometrically exact beam gives the
+// same as Q → 0 (tests/fem/exact_beam_test.cc checks it against that body too).
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <numbers>
+
+#include "fem/reduced_rod.h"
+#include "multibody/dae.h"
+#include "multibody/mechanism.h"
+#include "multibody/run_data.h"
+
+namespace flexrod::multibody {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kFar = 1e4;  // [m] anchor distance of the dead-load springs
+
+fem::RodSpec SteelRod(int elements) {
+  fem::RodSpec rod;
+  rod.material = fem::MaterialByName("steel");
+  rod.section.thickness = 3.175e-3;
+  rod.section.height = 19.05e-3;
+  rod.section.in_plane = fem::BendingAxis::kWeak;
+  rod.length = 0.28;
+  rod.num_elements = elements;
+  return rod;
+}
+
+/// χ(u) of the beam-column; p = P/P_cr (< 0 compression).
+double BeamColumnFactor(double p) {
+  const double u = 0.5 * kPi * std::sqrt(std::abs(p));
+  if (u < 1e-8) return 1.0;
+  return p < 0.0 ? 3.0 * (std::tan(u) - u) / (u * u * u) : 3.0 * (u - std::tanh(u)) / (u * u * u);
+}
+
+/// Midspan deflection [m] of the pinned rod under axial force `axial` (tension > 0) [N] and
+/// lateral load q_lateral [N], from a Newton solve of the static equations F2 = 0, F3 = 0.
+double MidspanDeflection(const std::shared_ptr<const fem::ReducedRod>& rod, bool stiffening,
+                         double axial, double q_lateral) {
+  MechanismBuilder b;
+  FlexibleBodySpec fs;
+  fs.name = "rod";
+  fs.rod = rod;
+  fs.geometric_stiffening = stiffening;
+  const BodyId body = b.AddFlexibleBody(fs);
+  const int last = rod->rod.num_nodes() - 1, mid = last / 2;
+  const double L = rod->rod.length;
+  const MarkerId big = b.AddNodeMarker(body, "big", 0);
+  const MarkerId small = b.AddNodeMarker(body, "small", last);
+  const MarkerId middle = b.AddNodeMarker(body, "middle", mid);
+  const BodyId slider = b.AddRigidBody({"slider", 1.0, 0.0, Vec2::Zero()});
+  const MarkerId pin = b.AddBodyMarker(slider, "pin", Vec2::Zero());
+  b.AddRevolute("big-end", b.AddGroundMarker("pivot", Vec2::Zero()), big);
+  b.AddRevolute("small-end", small, pin);
+  PrismaticSpec ps;
+  ps.name = "guide";
+  ps.marker_i = b.AddGroundMarker("guide", Vec2(L, 0.0));
+  ps.marker_j = pin;
+  b.AddPrismatic(ps);
+  // Dead loads as very long springs (force k·ℓ, ℓ ≈ kFar: direction and size constant to 1e-6).
+  const MarkerId axial_anchor =
+      b.AddGroundMarker("axial-anchor", Vec2(axial >= 0.0 ? L + kFar : L - kFar, 0.0));
+  b.AddSpringDamper("axial-load", axial_anchor, pin, std::abs(axial) / kFar, 0.0, 0.0);
+  const MarkerId lateral_anchor =
+      b.AddGroundMarker("lateral-anchor", Vec2(rod->rod.node_x(mid), kFar));
+  b.AddSpringDamper("lateral-load", lateral_anchor, middle, q_lateral / kFar, 0.0, 0.0);
+  const Mechanism m = b.Build();
+  RunData data(m);
+
+  const int np = m.num_coordinates(), nc = m.num_constraints(), N = m.size();
+  Vec y = Vec::Zero(N), yp = Vec::Zero(N);
+  y[m.coordinate(slider, kX)] = L;
+  for (int it = 0; it < 30; ++it) {
+    const Vec r = CalcResidual(m, &data, 0.0, y, yp);
+    Vec f(np + nc);
+    f << r.segment(np, np), r.segment(2 * np, nc);
+    if (f.norm() < 1e-11) break;
+    const Mat J = CalcJacobian(m, &data, 0.0, 0.0, y, yp);
+    Mat A(np + nc, np + nc);
+    A << J.block(np, 0, np, np), J.block(np, 2 * np, np, nc), J.block(2 * np, 0, nc, np),
+        J.block(2 * np, 2 * np, nc, nc);
+    const Vec dx = A.fullPivLu().solve(-f);
+    y.head(np) += dx.head(np);
+    y.segment(2 * np, nc) += dx.tail(nc);
+  }
+  const Vec r = CalcResidual(m, &data, 0.0, y, yp);
+  EXPECT_LT(r.segment(np, np).norm() + r.segment(2 * np, nc).norm(), 1e-8);
+  UpdateKinematics(m, &data, y.data());
+  return data.markers[middle.index].kin.position.y();
+}
+
+std::shared_ptr<const fem::ReducedRod> Reduced(fem::ReductionMethod method, int modes,
+                                               bool axial_modes) {
+  const fem::RodSpec rod = SteelRod(40);
+  fem::ReductionSpec spec = fem::MechanismReduction(rod, method, modes);
+  spec.axial_load_modes = axial_modes;
+  return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
+}
+
+double CriticalLoad() {
+  const fem::RodSpec rod = SteelRod(40);
+  const double EI = rod.material.youngs_modulus * rod.section.inertia_in_plane();
+  return kPi * kPi * EI / (rod.length * rod.length);  // ≈ 1.28 kN: the rig's weak-axis steel rod
+}
+
+// Within 0.1 % of χ (issue 23 asks 1 %) for |P/P_cr| <= 0.5, compression and tension (issue 23's
+// acceptance), for the default basis (Craig–Bampton, 8 modes, axial-load modes) and the full FE
+// model.
+TEST(PDelta, ReducedRodFollowsTheBeamColumnInTheMechanismFrame) {
+  const double Pcr = CriticalLoad(), Q = 1.0;
+  for (auto [method, modes] : {std::pair{fem::ReductionMethod::kCraigBampton, 8},
+                               std::pair{fem::ReductionMethod::kFull, 0}}) {
+    const auto rod = Reduced(method, modes, method == fem::ReductionMethod::kCraigBampton);
+    const double d0 = MidspanDeflection(rod, true, 0.0, Q);
+    const double EI = rod->rod.material.youngs_modulus * rod->rod.section.inertia_in_plane();
+    // Q L³/(48 EI): 8 fixed-interface modes miss 2.6e-4 of a point load's static flexibility.
+    EXPECT_NEAR(d0, Q * std::pow(rod->rod.length, 3) / (48.0 * EI), 1e-3 * std::abs(d0));
+    for (double p : {-0.5, -0.25, -0.1, 0.1, 0.25, 0.5}) {
+      const double ratio = MidspanDeflection(rod, true, p * Pcr, Q) / d0;
+      std::printf("PDelta %s P/Pcr %+.2f ratio %.6f chi %.6f error %+.2e\n", fem::ToString(method),
+                  p, ratio, BeamColumnFactor(p), ratio / BeamColumnFactor(p) - 1.0);
+      EXPECT_NEAR(ratio, BeamColumnFactor(p), 1e-3 * BeamColumnFactor(p))
+          << fem::ToString(method) << " P/P_cr = " << p;
+    }
+  }
+}
+
+// Without the geometric stiffness the tangent frame sees the axial force through the pin as a
+// stiffness (+2 P/P_cr on the first mode, DESIGN.md) and misses the physical P-delta term: the
+// deflection ratio at P = −0.5 P_cr is far from χ = 1.95 (it drops below 1). This is what the
+// test above would catch.
+TEST(PDelta, LinearRodInTheTangentFrameIsWrongUnderAxialLoad) {
+  const double Pcr = CriticalLoad();
+  const auto rod = Reduced(fem::ReductionMethod::kCraigBampton, 8, true);
+  const double ratio =
+      MidspanDeflection(rod, false, -0.5 * Pcr, 1.0) / MidspanDeflection(rod, false, 0.0, 1.0);
+  EXPECT_LT(ratio, 1.0);
+  EXPECT_GT(std::abs(ratio - BeamColumnFactor(-0.5)), 0.5);
+}
+
+}  // namespace
+}  // namespace flexrod::multibody
