@@ -823,8 +823,8 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
     }
   }
 
-  // Force elements: finite differences in the element's kinematic inputs, chained
-  // analytically with the marker Jacobians.
+  // Force elements: their analytic ∂o/∂κ (ForceElement::EvaluateJacobian) or finite
+  // differences in their kinematic inputs, chained analytically with the marker Jacobians.
   const auto& elements = model.elements();
   const double* memory = data->element_memory.data();
   for (size_t ei = 0; ei < elements.size(); ++ei) {
@@ -843,11 +843,14 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
     const Vec2 F0[2] = {Vec2(es.o_plus(0), es.o_plus(1)), Vec2(es.o_plus(3), es.o_plus(4))};
     const FiniteDifferenceScales sc = e.element->fd_scales();
     es.Do.setZero();
+    const bool analytic =
+        ns == 0 && e.element->EvaluateJacobian(t, k0[0], k0[1], mem, &es.analytic);
+    if (analytic) es.Do.topRows(7) = es.analytic;
     // Relative-kinematics elements: positions and velocities are differenced on one side
     // (j if it is on a body), the other side's columns are their negatives, angles are skipped.
     const bool relative = e.element->relative_kinematics();
     const int fd_side = body[1] >= 0 ? 1 : 0;
-    for (int pass = 0; pass < 2; ++pass) {
+    for (int pass = 0; pass < (analytic ? 0 : 2); ++pass) {
       const int side = pass == 0 ? fd_side : 1 - fd_side;
       if (body[side] < 0) continue;
       for (int c = 0; c < 6; ++c) {

@@ -21,20 +21,20 @@ namespace flexrod::multibody {
 
 /// World kinematics of a marker M: position p_WM, velocity, angle and angular velocity.
 struct MarkerKinematics {
-  Vec2 position{0.0, 0.0};        ///< p_WM [m]
-  Vec2 velocity{0.0, 0.0};        ///< v_WM [m/s]
-  double angle{0.0};              ///< marker angle in the world [rad]
-  double angular_velocity{0.0};   ///< [rad/s]
+  Vec2 position{0.0, 0.0};       ///< p_WM [m]
+  Vec2 velocity{0.0, 0.0};       ///< v_WM [m/s]
+  double angle{0.0};             ///< marker angle in the world [rad]
+  double angular_velocity{0.0};  ///< [rad/s]
 };
 
 /// What an element returns. Forces are in world axes and act ON the marker's body at the
 /// marker point; moments are about the marker point (counter-clockwise positive).
 struct ElementOutput {
-  Vec2 force_i{0.0, 0.0};   ///< force on marker i's body at marker i [N]
-  double moment_i{0.0};     ///< moment on marker i's body [N m]
-  Vec2 force_j{0.0, 0.0};   ///< force on marker j's body at marker j [N]
-  double moment_j{0.0};     ///< moment on marker j's body [N m]
-  double dissipation{0.0};  ///< power removed from the mechanism [W] (>= 0 if passive)
+  Vec2 force_i{0.0, 0.0};        ///< force on marker i's body at marker i [N]
+  double moment_i{0.0};          ///< moment on marker i's body [N m]
+  Vec2 force_j{0.0, 0.0};        ///< force on marker j's body at marker j [N]
+  double moment_j{0.0};          ///< moment on marker j's body [N m]
+  double dissipation{0.0};       ///< power removed from the mechanism [W] (>= 0 if passive)
   double* state_rates{nullptr};  ///< ż, num_states() entries, zeroed before Evaluate [unit/s]
 };
 
@@ -48,6 +48,11 @@ struct FiniteDifferenceScales {
   double angle{1e-3};          ///< [rad]
   double angular_speed{1e-3};  ///< [rad/s]
 };
+
+/// Derivatives of an element's outputs o = [F_i (2), M_i, F_j (2), M_j, dissipation] with
+/// respect to its kinematic inputs κ = [p_i (2), v_i (2), φ_i, ω_i, p_j (2), v_j (2), φ_j, ω_j]
+/// (the column order of the Jacobian's finite differences; units as in MarkerKinematics).
+using ElementJacobian = Eigen::Matrix<double, 7, 12>;
 
 /// A force element between markers i and j (either may be a ground marker).
 class ForceElement {
@@ -82,9 +87,17 @@ class ForceElement {
   /// Called when IDA has located a zero of root `index` (direction +1: g increasing, −1:
   /// decreasing) at time t; may update `memory`. Return true if the element's law changed
   /// discontinuously so the integrator must be restarted (IDAReInit) at t.
-  virtual bool OnRoot(int /*index*/, int /*direction*/, double /*t*/,
-                      const MarkerKinematics& /*i*/, const MarkerKinematics& /*j*/,
-                      const double* /*z*/, double* /*memory*/) const {
+  virtual bool OnRoot(int /*index*/, int /*direction*/, double /*t*/, const MarkerKinematics& /*i*/,
+                      const MarkerKinematics& /*j*/, const double* /*z*/,
+                      double* /*memory*/) const {
+    return false;
+  }
+
+  /// Analytic ∂o/∂κ (ElementJacobian) for an element without states. Return false (the
+  /// default) to have the Jacobian difference the element instead. Must not allocate or throw.
+  virtual bool EvaluateJacobian(double /*t*/, const MarkerKinematics& /*i*/,
+                                const MarkerKinematics& /*j*/, const double* /*memory*/,
+                                ElementJacobian* /*jac*/) const {
     return false;
   }
 
@@ -142,8 +155,8 @@ class RotationalSpringDamper final : public ForceElement {
 
 /// Viscous damper and regularised Coulomb friction along a prismatic joint's axis (axis a
 /// fixed in marker i's frame). Sliding speed at the contact point j relative to body i:
-/// s = uᵀ(v_j − v_i) − ω_i uᵀ J (p_j − p_i), u = R(φ_i) a; force on j: −(c s + F_c tanh(s/s_reg)) u,
-/// its reaction on i at the same point. Dissipation = (c s + F_c tanh(s/s_reg)) s >= 0.
+/// s = uᵀ(v_j − v_i) − ω_i uᵀ J (p_j − p_i), u = R(φ_i) a; force on j: −(c s + F_c tanh(s/s_reg))
+/// u, its reaction on i at the same point. Dissipation = (c s + F_c tanh(s/s_reg)) s >= 0.
 class PrismaticGuide final : public ForceElement {
  public:
   /// axis: unit vector in marker i's frame; c [N s/m] >= 0; F_c [N] >= 0; s_reg [m/s] > 0.
