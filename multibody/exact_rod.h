@@ -40,6 +40,7 @@ class ReissnerBeamElement final : public ForceElement {
   /// The element length: positions of its nodes are resolved to rel_tol × L0, so that its
   /// strains (differences of node positions over L0) keep the relative tolerance.
   double ResolvedLength() const override { return length_; }
+  bool structural() const override { return true; }
   std::string type_name() const override { return "reissner-beam"; }
 
   /// Strains (ε, γ, κ) of the element at the kinematics of its two markers.

@@ -114,6 +114,10 @@ class ForceElement {
   /// relative tolerance of the coordinates that move its markers applies to this length, not
   /// to their absolute values (MechanismDae::RelativeToleranceCaps).
   virtual double ResolvedLength() const { return 0.0; }
+  /// True for an element that is part of an elastic body (the exact rod's beam elements): its
+  /// stiff modes then set the velocity tolerance scale as elastic coordinates do
+  /// (AutoVelocityTolScale, multibody/simulate.h).
+  virtual bool structural() const { return false; }
   /// Short type name for messages ("spring-damper", "clearance-joint", ...).
   virtual std::string type_name() const = 0;
 };

@@ -82,6 +82,13 @@ DampingSpec DampingSpec::Rayleigh(double alpha, double beta) {
   return d;
 }
 
+DampingSpec DampingSpec::Matrix(Mat d) {
+  DampingSpec spec;
+  spec.kind = DampingKind::kMatrix;
+  spec.matrix = std::move(d);
+  return spec;
+}
+
 void DampingSpec::Validate(const std::string& key, int num_modes) const {
   switch (kind) {
     case DampingKind::kNone:
@@ -109,6 +116,36 @@ void DampingSpec::Validate(const std::string& key, int num_modes) const {
       RequireNonNegative(key + ".rayleigh_alpha", rayleigh_alpha);
       RequireNonNegative(key + ".rayleigh_beta", rayleigh_beta);
       break;
+    case DampingKind::kMatrix: {
+      const std::string mkey = key + ".matrix";
+      if (matrix.rows() != num_modes || matrix.cols() != num_modes) {
+        throw InputError(mkey, std::to_string(matrix.rows()) + "x" + std::to_string(matrix.cols()),
+                         "must be n x n with n = " + std::to_string(num_modes) +
+                             " (the body's elastic coordinates)");
+      }
+      if (!matrix.allFinite()) throw InputError(mkey, "non-finite entries", "must be finite");
+      if (num_modes == 0) break;
+      // Relative tolerances: symmetric to round-off; eigenvalues >= 0 to round-off of the
+      // largest (a matrix built as Q⁻ᵀ diag(2ζω) Q⁻¹ with some ζ = 0 has zero eigenvalues).
+      constexpr double kSymmetryTol = 1e-12;
+      constexpr double kDefinitenessTol = 1e-10;
+      const double scale = matrix.cwiseAbs().maxCoeff();
+      const double asym = (matrix - matrix.transpose()).cwiseAbs().maxCoeff();
+      if (asym > kSymmetryTol * scale) {
+        throw InputError(
+            mkey,
+            "max |D - D^T| = " + FormatValue(asym) + " (max |D| = " + FormatValue(scale) + ")",
+            "must be symmetric (to 1e-12 of its largest entry)");
+      }
+      const Vec eig = Eigen::SelfAdjointEigenSolver<Mat>(0.5 * (matrix + matrix.transpose()),
+                                                         Eigen::EigenvaluesOnly)
+                          .eigenvalues();
+      if (eig(0) < -kDefinitenessTol * std::max(eig.cwiseAbs().maxCoeff(), scale)) {
+        throw InputError(mkey, "smallest eigenvalue " + FormatValue(eig(0)),
+                         "must be positive semi-definite (damping must not add energy)");
+      }
+      break;
+    }
   }
 }
 
@@ -411,6 +448,8 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
       b.D = 0.5 * (b.D + b.D.transpose());
     } else if (spec.damping.kind == DampingKind::kRayleigh) {
       b.D = spec.damping.rayleigh_alpha * b.Mff + spec.damping.rayleigh_beta * b.K;
+    } else if (spec.damping.kind == DampingKind::kMatrix) {
+      b.D = 0.5 * (spec.damping.matrix + spec.damping.matrix.transpose());
     }
   }
   b.qq_mask.assign(n, std::vector<bool>(n, false));

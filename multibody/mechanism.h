@@ -60,11 +60,14 @@ inline constexpr double kBandLowRatio = 0.01;
 inline constexpr double kBandMidRatio = 0.10;
 inline constexpr double kBandHighRatio = 1.0;
 
-enum class DampingKind { kNone, kModalRatio, kFrequencyBand, kRayleigh };
+enum class DampingKind { kNone, kModalRatio, kFrequencyBand, kRayleigh, kMatrix };
 
 /// Elastic damping D (n×n) in Q_e = −K q − D q̇. Modal kinds solve K φ = ω² M_ff φ once at
-/// build time and set D = M_ff Φ diag(2 ζ_i ω_i) Φᵀ M_ff (Φ M_ff-normalised); Rayleigh sets
-/// D = α M_ff + β K.
+/// build time and set D = M_ff Φ diag(2 ζ_i ω_i) Φᵀ M_ff (Φ M_ff-normalised): ratios of the
+/// body's own modes, i.e. of the rod clamped to its floating frame. Rayleigh sets
+/// D = α M_ff + β K. kMatrix takes D as given, e.g. from ModalDampingForBody
+/// (multibody/mechanism_modes.h), which refers the ratios to the modes of the assembled
+/// mechanism.
 struct DampingSpec {
   DampingKind kind{DampingKind::kNone};
   std::vector<double> modal_ratios;             ///< ζ_i per mode [-], >= 0; one value = all modes
@@ -75,11 +78,15 @@ struct DampingSpec {
   double band_high_ratio{kBandHighRatio};       ///< ζ above band_high_limit_hz [-]
   double rayleigh_alpha{0.0};                   ///< α [1/s], >= 0
   double rayleigh_beta{0.0};                    ///< β [s], >= 0
+  /// kMatrix: D itself, n×n, symmetric positive semi-definite [generalised N s/m: entry (i, j)
+  /// is the force conjugate to q_i per unit q̇_j].
+  Mat matrix;
 
   static DampingSpec None() { return {}; }
   static DampingSpec ModalRatio(std::vector<double> ratios);
   static DampingSpec FrequencyBand();
   static DampingSpec Rayleigh(double alpha, double beta);
+  static DampingSpec Matrix(Mat d);
   /// Throws InputError naming key.<field>.
   void Validate(const std::string& key, int num_modes) const;
 };
@@ -162,7 +169,8 @@ struct Body {
   Mat D;  ///< n×n damping
   DampingSpec damping;
   Vec modal_frequencies_hz;  ///< eigenfrequencies of (K, M_ff) [Hz] (empty if rigid)
-  Vec modal_damping_ratios;  ///< ζ_i used (modal kinds) [-]
+  /// ζ_i used (modal kinds) [-]; empty for kMatrix (its ratios belong to whoever made D).
+  Vec modal_damping_ratios;
   std::shared_ptr<const fem::ReducedRod> rod;  ///< null for rigid bodies
   /// Structural non-zero mask of the q–q block (union of M_ff, S̃, K, D; dense with
   /// geometric stiffening), for the sparse Jacobian pattern.

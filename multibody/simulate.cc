@@ -3,15 +3,14 @@
 #define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/simulate.h"
 
+#include <Eigen/LU>
+#include <Eigen/QR>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <sstream>
-
-#include <Eigen/LU>
-#include <Eigen/QR>
 
 #include "common/error.h"
 #include "common/scope_timer.h"
@@ -88,11 +87,13 @@ double InitialEnergy(const Mechanism& model, RunData* data, const Vec& y) {
 
 }  // namespace
 
-// ---- initial conditions ------------------------------------------------------------------------------
+// ---- initial conditions
+// ------------------------------------------------------------------------------
 void InitialConditionSpec::Validate(const Mechanism& model) const {
   const int np = model.num_coordinates();
   Require(coordinates.size() == 0 || coordinates.size() == np, "initial.coordinates",
-          static_cast<double>(coordinates.size()), "must be empty or have one entry per coordinate");
+          static_cast<double>(coordinates.size()),
+          "must be empty or have one entry per coordinate");
   Require(velocities.size() == 0 || velocities.size() == np, "initial.velocities",
           static_cast<double>(velocities.size()), "must be empty or have one entry per coordinate");
   Require(coordinates.allFinite() && velocities.allFinite(), "initial", 0.0,
@@ -200,8 +201,8 @@ ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, do
     }
     const int worst = WorstIndex(g);
     throw NumericalError("initial conditions: position Newton did not converge in " +
-                         std::to_string(spec.max_newton_iterations) + " iterations; |g| = " +
-                         FormatValue(g.lpNorm<Eigen::Infinity>()) + " at " +
+                         std::to_string(spec.max_newton_iterations) +
+                         " iterations; |g| = " + FormatValue(g.lpNorm<Eigen::Infinity>()) + " at " +
                          model.VariableName(model.lambda_offset() + worst) +
                          " (check the initial guess and the assembly)");
   };
@@ -216,8 +217,10 @@ ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, do
     for (size_t k = 0; k < free_v.size(); ++k) v(free_v[k]) += dv(static_cast<int>(k));
     const double err = (G * v + gt).lpNorm<Eigen::Infinity>();
     if (!(err <= 1e-9 * std::max(1.0, v.lpNorm<Eigen::Infinity>()))) {
-      throw NumericalError("initial conditions: velocity constraints cannot be met with the fixed "
-                           "velocities (residual " + FormatValue(err) + ")");
+      throw NumericalError(
+          "initial conditions: velocity constraints cannot be met with the fixed "
+          "velocities (residual " +
+          FormatValue(err) + ")");
     }
   };
   Vec y = Vec::Zero(N), yp = Vec::Zero(N);
@@ -325,15 +328,21 @@ void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,
   (*v)(model.coordinate(body, kTheta)) = angular_velocity;
 }
 
-// ---- MechanismDae -------------------------------------------------------------------------------------
+// ---- MechanismDae
+// -------------------------------------------------------------------------------------
 MechanismDae::MechanismDae(const Mechanism& model, RunData* data,
-                           const PrescribedMotion& prescribed,
-                           std::optional<IndexEventSpec> index, double velocity_tol_scale,
-                           double energy_tol_scale)
-    : model_(model), data_(data), prescribed_(prescribed), index_(index),
-      velocity_tol_scale_(velocity_tol_scale), energy_tol_scale_(energy_tol_scale),
-      y_full_(Vec::Zero(model.size())), yp_full_(Vec::Zero(model.size())),
-      r_full_(Vec::Zero(model.size())), jac_full_(Mat::Zero(model.size(), model.size())) {
+                           const PrescribedMotion& prescribed, std::optional<IndexEventSpec> index,
+                           double velocity_tol_scale, double energy_tol_scale)
+    : model_(model),
+      data_(data),
+      prescribed_(prescribed),
+      index_(index),
+      velocity_tol_scale_(velocity_tol_scale),
+      energy_tol_scale_(energy_tol_scale),
+      y_full_(Vec::Zero(model.size())),
+      yp_full_(Vec::Zero(model.size())),
+      r_full_(Vec::Zero(model.size())),
+      jac_full_(Mat::Zero(model.size(), model.size())) {
   FLEXROD_ASSERT(data->model == &model);
   FLEXROD_ASSERT(prescribed.full_size() == model.size());
 }
@@ -432,12 +441,15 @@ double AutoVelocityTolScale(const Mechanism& model) {
     }
   }
   for (const ElementSlot& e : model.elements()) {
-    if (elastic(e.marker_i) || elastic(e.marker_j)) return kElasticJointVelocityTolScale;
+    if (elastic(e.marker_i) || elastic(e.marker_j) || e.element->structural()) {
+      return kElasticJointVelocityTolScale;
+    }
   }
   return 1.0;
 }
 
-// ---- SampleView -----------------------------------------------------------------------------------------
+// ---- SampleView
+// -----------------------------------------------------------------------------------------
 SampleView::SampleView(const Mechanism& model, RunData* data, double t, const double* y,
                        const double* yp)
     : model_(model), data_(data), t_(t), y_(y), yp_(yp) {}
@@ -475,7 +487,8 @@ double SampleView::ConstraintViolation() const {
   return MaxConstraintViolation(model_, data_, t_, y_);
 }
 
-// ---- run loop ---------------------------------------------------------------------------------------
+// ---- run loop
+// ---------------------------------------------------------------------------------------
 void SimulationOptions::Validate(const Mechanism& model) const {
   Require(std::isfinite(t_start), "simulation.t_start", t_start, "must be finite");
   Require(t_end > t_start && std::isfinite(t_end), "simulation.t_end", t_end,
@@ -499,10 +512,14 @@ void SimulationOptions::Validate(const Mechanism& model) const {
 
 const char* ToString(SimulationOutcome outcome) {
   switch (outcome) {
-    case SimulationOutcome::kCompleted: return "completed";
-    case SimulationOutcome::kIntegratorFailure: return "integrator-failure";
-    case SimulationOutcome::kStepLimit: return "step-limit";
-    case SimulationOutcome::kInitialConditionFailure: return "initial-condition-failure";
+    case SimulationOutcome::kCompleted:
+      return "completed";
+    case SimulationOutcome::kIntegratorFailure:
+      return "integrator-failure";
+    case SimulationOutcome::kStepLimit:
+      return "step-limit";
+    case SimulationOutcome::kInitialConditionFailure:
+      return "initial-condition-failure";
   }
   return "?";
 }
@@ -523,15 +540,15 @@ std::string SimulationStatus::Summary() const {
   }
   if (stats.steps > 1000 && stats.error_test_failures > stats.steps / 2) {
     os << "\n  note: error-test failures on most steps (" << stats.error_test_failures << " of "
-       << stats.steps << "): stiff elastic coordinates coupled to joints keep the step near "
+       << stats.steps
+       << "): stiff elastic coordinates coupled to joints keep the step near "
           "1/|lambda_max|; raise velocity_tol_scale or change rel_tol";
   }
   os << "\n  steps " << stats.steps << ", residuals " << stats.residual_evaluations
      << ", Jacobians " << stats.jacobian_evaluations << ", Newton iterations "
      << stats.nonlinear_iterations << ", convergence failures "
      << stats.nonlinear_convergence_failures << ", error-test failures "
-     << stats.error_test_failures << ", roots " << stats.roots_found << ", samples "
-     << num_samples;
+     << stats.error_test_failures << ", roots " << stats.roots_found << ", samples " << num_samples;
   return os.str();
 }
 
@@ -546,8 +563,9 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const InitialCo
     status.outcome = SimulationOutcome::kInitialConditionFailure;
     status.t_reached = options.t_start;
     status.message = e.what();
-    status.hint = "check the initial guess (assembly), the fixed coordinates and for redundant "
-                  "constraints";
+    status.hint =
+        "check the initial guess (assembly), the fixed coordinates and for redundant "
+        "constraints";
     return status;
   }
   return Simulate(model, data, state, options, callbacks);
@@ -565,8 +583,8 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   Require(t_end > t0, "simulation.t_end", t_end, "must be > the start time of the state");
 
   SimulationStatus status;
-  status.velocity_tol_scale = options.velocity_tol_scale > 0.0 ? options.velocity_tol_scale
-                                                               : AutoVelocityTolScale(model);
+  status.velocity_tol_scale =
+      options.velocity_tol_scale > 0.0 ? options.velocity_tol_scale : AutoVelocityTolScale(model);
   data->time_elements = options.time_elements;
   for (ElementScratch& es : data->elements) es.seconds = 0.0;
   PrescribedMotion prescribed(model, options.eliminate_prescribed);
@@ -579,9 +597,9 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   // IDA integrates the kept unknowns (size n); everything else sees the full layout (size N).
   const int n = prescribed.size();
   status.unknowns = n;
-  Vec yr(n), ypr(n);                    // reduced state / dense output
+  Vec yr(n), ypr(n);                     // reduced state / dense output
   Vec ybuf = state.y, ypbuf = state.yp;  // full dense-output buffers
-  Vec yev(N), ypev(N);                  // full event/restart state
+  Vec yev(N), ypev(N);                   // full event/restart state
   auto initialize = [&](double t, const Vec& y, const Vec& yp) {
     prescribed.StartSegment(t);
     prescribed.Reduce(y.data(), yr.data());
@@ -628,7 +646,8 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
           cached = true;
         }
         const double te = std::min(ts, t_ret);
-        ida.EvaluateStepPolynomial(te, ybuf.data(), ypbuf.data(), prescribed.kept_unknowns().data());
+        ida.EvaluateStepPolynomial(te, ybuf.data(), ypbuf.data(),
+                                   prescribed.kept_unknowns().data());
         prescribed.ExpandPrescribed(te, ybuf.data(), ypbuf.data());
         emit(ts, ybuf.data(), ypbuf.data());
       } else {
@@ -674,12 +693,13 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
   std::vector<int> roots_found(std::max(1, dae.num_roots()), 0);
   roots = roots_found.data();
   const int index_root = dae.index_root();
-  int stalls = 0;                    // consecutive kRootStall re-initialisations
+  int stalls = 0;  // consecutive kRootStall re-initialisations
   constexpr int kMaxRootStalls = 3;
 
   // The solution point at t_now in yev/ypev, for on_step (each outcome below refreshes them).
   auto report_step = [&] {
-    if (callbacks.on_step) callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
+    if (callbacks.on_step)
+      callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
   };
   try {
     for (;;) {
@@ -703,18 +723,18 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
           for (int k = 0; k < e.num_roots; ++k) {
             const int dir = roots[e.root_offset + k];
             if (dir == 0) continue;
-            must_restart |= e.element->OnRoot(
-                k, dir, t_now, data->markers[e.marker_i].kin, data->markers[e.marker_j].kin,
-                yev.data() + model.z_offset() + e.state_offset,
-                data->element_memory.data() + e.memory_offset);
+            must_restart |= e.element->OnRoot(k, dir, t_now, data->markers[e.marker_i].kin,
+                                              data->markers[e.marker_j].kin,
+                                              yev.data() + model.z_offset() + e.state_offset,
+                                              data->element_memory.data() + e.memory_offset);
           }
         }
         if (index_root >= 0 && roots[index_root] != 0) {
           const int ith = model.coordinate(options.index_event->body, kTheta);
           IndexCrossing c;
           c.t = t_now;
-          c.revolution = std::lround((yev(ith) - options.index_event->angle) /
-                                     (2.0 * std::numbers::pi));
+          c.revolution =
+              std::lround((yev(ith) - options.index_event->angle) / (2.0 * std::numbers::pi));
           c.speed = yev(np + ith);
           status.index_crossings.push_back(c);
           if (!grid_active && t_now >= options.sample_start - t_fuzz) {
@@ -732,10 +752,11 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       } else if (res.outcome == StepOutcome::kRootStall) {
         // y still holds the solution at the last return (IDA has not stepped since).
         if (++stalls > kMaxRootStalls) {
-          throw IntegratorFailure("IDA cannot continue past a root function that stays zero at t = " +
-                                      FormatValue(t_now) + " s (" + std::to_string(kMaxRootStalls) +
-                                      " re-initialisations did not help)",
-                                  -22, "IDA_ILL_INPUT", t_now);
+          throw IntegratorFailure(
+              "IDA cannot continue past a root function that stays zero at t = " +
+                  FormatValue(t_now) + " s (" + std::to_string(kMaxRootStalls) +
+                  " re-initialisations did not help)",
+              -22, "IDA_ILL_INPUT", t_now);
         }
         expand_current(t_now, &yev, &ypev);
         restart(t_now);

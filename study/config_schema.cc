@@ -69,8 +69,9 @@ const std::vector<ParamDef>& Schema() {
        K::kChoice,
        D::kDimensionless,
        "flexible",
-       "connecting rod model",
-       {"flexible", "rigid"}},
+       "connecting rod model: flexible = reduced floating-frame rod (reduction.*), exact = "
+       "geometrically exact beam (Simo-Reissner, a body per FE node; the reference), rigid",
+       {"flexible", "exact", "rigid"}},
       {"rod.rigid_mass", K::kQuantity, D::kMass, "0",
        "rigid rod mass [kg]; 0 = from material and section (rigid rod only)"},
       {"rod.rigid_inertia", K::kQuantity, D::kInertia, "0",
@@ -245,10 +246,13 @@ const std::vector<ParamDef>& Schema() {
        K::kChoice,
        D::kDimensionless,
        "band",
-       "band: 1 % < 100 Hz, 10 % < 1 kHz, critical above; ratio; rayleigh",
+       "band: 1 % < 100 Hz, 10 % < 1 kHz, critical above; ratio; rayleigh. band and ratio "
+       "damp the rod's modes in the assembled mechanism (crank held, at the initial crank "
+       "angle, ideal small-end joint), not those of the rod clamped to its frame",
        {"band", "ratio", "rayleigh"}},
       {"damping.ratio", K::kQuantity, D::kDimensionless, "0.02",
-       "modal damping ratio (type ratio) [-]"},
+       "modal damping ratio (type ratio) of every mode of the rod in the assembled mechanism "
+       "(crank held, at the initial crank angle) [-]"},
       {"damping.alpha", K::kQuantity, D::kFrequency, "0", "Rayleigh mass factor [1/s]"},
       {"damping.beta", K::kQuantity, D::kTime, "0", "Rayleigh stiffness factor [s]"},
       {"gravity.enabled", K::kBool, D::kDimensionless, "false",

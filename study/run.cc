@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "study/run.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,10 +12,9 @@
 #include <numbers>
 #include <sstream>
 
-#include <unistd.h>
-
 #include "common/error.h"
 #include "common/files.h"
+#include "study/exact_rod_view.h"
 #include "study/signals.h"
 
 namespace flexrod {
@@ -31,9 +32,9 @@ std::vector<double> ParseList(const std::string& key, const std::string& text, D
 /// Extremes and sum of squares of one channel's samples, gathered as they are recorded (the
 /// summary then needs no second pass over a record of tens of MB).
 struct ChannelStats {
-  double min{std::numeric_limits<double>::infinity()};   ///< [channel unit]
-  double max{-std::numeric_limits<double>::infinity()};  ///< [channel unit]
-  double sum_squares{0.0};                                ///< Σ x² [channel unit²]
+  double min{std::numeric_limits<double>::infinity()};     ///< [channel unit]
+  double max{-std::numeric_limits<double>::infinity()};    ///< [channel unit]
+  double sum_squares{0.0};                                 ///< Σ x² [channel unit²]
   double peak_abs() const { return std::max(max, -min); }  ///< max |x| [channel unit]
 };
 
@@ -81,7 +82,8 @@ class Recorder {
   study::TimeSeries Finish(double rate) {
     Flush();
     study::TimeSeries ts(rate, size_ ? first_t_ : 0.0);
-    for (size_t i = 0; i < names_.size(); ++i) ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
+    for (size_t i = 0; i < names_.size(); ++i)
+      ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
     return ts;
   }
 
@@ -139,11 +141,14 @@ CsvSelection ReadCsvSelection(const Config& cfg, double sample_rate,
       if (available && std::find(available->begin(), available->end(), item) == available->end()) {
         std::string names;
         for (const std::string& n : *available) names += (names.empty() ? "" : ", ") + n;
-        throw InputError("output.channels", item, "is not a channel of this run; channels: " + names);
+        throw InputError("output.channels", item,
+                         "is not a channel of this run; channels: " + names);
       }
       sel.channels.push_back(item);
     }
-    if (sel.channels.empty()) throw InputError("output.channels", "\"" + list + "\"", "names no channel; use all or a list");
+    if (sel.channels.empty())
+      throw InputError("output.channels", "\"" + list + "\"",
+                       "names no channel; use all or a list");
   }
   const double rate = cfg.Quantity("output.rate");
   RequireNonNegative("output.rate", rate);
@@ -163,7 +168,8 @@ study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& 
   if (sel.channels.empty() && sel.stride == 1) return ts;
   study::TimeSeries out(ts.sample_rate() / static_cast<double>(sel.stride), ts.start_time());
   for (const study::Channel& c : ts.channels()) {
-    if (!sel.channels.empty() && std::find(sel.channels.begin(), sel.channels.end(), c.name) == sel.channels.end()) {
+    if (!sel.channels.empty() &&
+        std::find(sel.channels.begin(), sel.channels.end(), c.name) == sel.channels.end()) {
       continue;
     }
     std::vector<double> v;
@@ -175,8 +181,8 @@ study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& 
 }
 
 /// The run's channels. `impacts` (clearance runs) also sees the contact at every sample.
-void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, nlohmann::json* gauges_json,
-                    study::ImpactLogger* impacts) {
+void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
+                    nlohmann::json* gauges_json, study::ImpactLogger* impacts) {
   const multibody::Mechanism& m = mm.mechanism;
   const auto conrod = mm.conrod;
   const int rod_theta = m.coordinate(conrod, multibody::kTheta);
@@ -189,12 +195,13 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
                v[1] = s.velocity(crank_theta);
                v[2] = s.Driver(driver).torque;
              });
-    rec->Add({{"slider_position", "m"}, {"slider_velocity", "m/s"}, {"slider_acceleration", "m/s^2"}},
-             [=](const SampleView& s, double* v) {
-               v[0] = s.coordinate(sx);
-               v[1] = s.velocity(sx);
-               v[2] = s.acceleration(sx);
-             });
+    rec->Add(
+        {{"slider_position", "m"}, {"slider_velocity", "m/s"}, {"slider_acceleration", "m/s^2"}},
+        [=](const SampleView& s, double* v) {
+          v[0] = s.coordinate(sx);
+          v[1] = s.velocity(sx);
+          v[2] = s.acceleration(sx);
+        });
     // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
     rec->Add({{"big_end_force_x", "N"}, {"big_end_force_y", "N"}},
              [joint = mm.big_end_joint](const SampleView& s, double* v) {
@@ -225,7 +232,8 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
                 {"bearing_force", "N"}},
                [=, joint = mm.clearance](const SampleView& s, double* v) {
                  const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, joint);
-                 if (impacts) impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta), r));
+                 if (impacts)
+                   impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta), r));
                  v[0] = r.kinematics.eccentricity.x();
                  v[1] = r.kinematics.eccentricity.y();
                  v[2] = r.kinematics.eccentricity_norm;
@@ -238,10 +246,11 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
                });
     }
   } else {
-    rec->Add({{"rod_angle", "rad"}, {"rod_angular_velocity", "rad/s"}}, [=](const SampleView& s, double* v) {
-      v[0] = s.coordinate(rod_theta);
-      v[1] = s.velocity(rod_theta);
-    });
+    rec->Add({{"rod_angle", "rad"}, {"rod_angular_velocity", "rad/s"}},
+             [=](const SampleView& s, double* v) {
+               v[0] = s.coordinate(rod_theta);
+               v[1] = s.velocity(rod_theta);
+             });
   }
   if (mm.rod) {
     const fem::ReducedRod& rod = *mm.rod;
@@ -262,15 +271,17 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
     });
     const double E = rod.rod.material.youngs_modulus;
     const double y = rod.rod.section.half_depth_in_plane();
-    const std::vector<double> xs = ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
+    const std::vector<double> xs =
+        ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
     for (size_t g = 0; g < xs.size(); ++g) {
       const std::string name = "gauge" + std::to_string(g + 1);
       const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
       const RowVec strain_row = rows.axial + rows.bending;
-      rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}}, [=](const SampleView& s, double* v) {
-        v[0] = strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
-        v[1] = E * v[0];
-      });
+      rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
+               [=](const SampleView& s, double* v) {
+                 v[0] = strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
+                 v[1] = E * v[0];
+               });
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
     }
     std::vector<Recorder::Spec> modal;
@@ -279,22 +290,55 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec, 
       name += std::to_string(k + 1);
       modal.push_back({name, "1"});
     }
-    rec->Add(std::move(modal), [=](const SampleView& s, double* v) { std::copy_n(s.y() + q0, n, v); });
+    rec->Add(std::move(modal),
+             [=](const SampleView& s, double* v) { std::copy_n(s.y() + q0, n, v); });
+  }
+  std::shared_ptr<const study::ExactRodView> exact;
+  if (mm.exact) {
+    // The exact rod (rod.type = exact): deflection and gauges from its node bodies.
+    exact = std::make_shared<const study::ExactRodView>(m, *mm.exact);
+    const fem::RodSpec& rod = mm.exact->rod;
+    double x_probe = cfg.Quantity("output.midspan");
+    if (x_probe <= 0.0) x_probe = 0.5 * rod.length;
+    const int probe = static_cast<int>(std::lround(x_probe / rod.element_length()));
+    rec->Add({{"rod_deflection", "m"}},
+             [=](const SampleView& s, double* v) { v[0] = exact->Deflection(s.y(), probe); });
+    const double E = rod.material.youngs_modulus;
+    const double y = rod.section.half_depth_in_plane();
+    const std::vector<double> xs =
+        ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
+    for (size_t g = 0; g < xs.size(); ++g) {
+      const std::string name = "gauge" + std::to_string(g + 1);
+      if (!(xs[g] >= 0.0 && xs[g] <= rod.length)) {
+        throw InputError("output.gauges", FormatValue(xs[g]) + " m",
+                         "must lie on the rod, 0 <= x <= rod.length");
+      }
+      const double x = xs[g];
+      rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
+               [=](const SampleView& s, double* v) {
+                 v[0] = exact->Strain(s.y(), x, y);
+                 v[1] = E * v[0];
+               });
+      (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
+    }
   }
   // Strain energy only with an elastic rod (a rigid one has none: the channel would be zeros).
-  const bool elastic = mm.rod != nullptr;
+  const bool elastic = mm.rod != nullptr || mm.exact != nullptr;
   std::vector<Recorder::Spec> energies = {{"energy_kinetic", "J"}};
   if (elastic) energies.push_back({"energy_strain", "J"});
-  energies.insert(energies.end(), {{"energy_dissipated", "J"}, {"driver_work", "J"}, {"energy_balance_error", "J"}});
-  rec->Add(std::move(energies), [elastic](const SampleView& s, double* v) {
+  energies.insert(
+      energies.end(),
+      {{"energy_dissipated", "J"}, {"driver_work", "J"}, {"energy_balance_error", "J"}});
+  rec->Add(std::move(energies), [elastic, exact](const SampleView& s, double* v) {
     const multibody::EnergyReport e = s.Energies();
     *v++ = e.kinetic;
-    if (elastic) *v++ = e.strain;
+    if (elastic) *v++ = exact ? exact->StrainEnergy(s.y()) : e.strain;
     *v++ = e.dissipated_elements + e.dissipated_damping;
     *v++ = e.driver_work;
     *v = e.balance_error;
   });
-  rec->Add({{"constraint_violation", "m"}}, [](const SampleView& s, double* v) { v[0] = s.ConstraintViolation(); });
+  rec->Add({{"constraint_violation", "m"}},
+           [](const SampleView& s, double* v) { v[0] = s.ConstraintViolation(); });
 }
 
 multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
@@ -305,7 +349,7 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
   o.integrator.abs_tol = cfg.Quantity("sim.abs_tol");
   o.integrator.max_step = cfg.Quantity("sim.max_step");
   const std::string ls = cfg.Text("sim.linear_solver");
-  o.integrator.linear_solver = ls == "dense"  ? multibody::LinearSolverKind::kDense
+  o.integrator.linear_solver = ls == "dense" ? multibody::LinearSolverKind::kDense
                                : ls == "klu" ? multibody::LinearSolverKind::kKlu
                                              : multibody::LinearSolverKind::kAuto;
   o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
@@ -317,21 +361,21 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
 /// wall time of its residuals, Jacobians and linear solves.
 nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) {
   nlohmann::json j = {{"outcome", multibody::ToString(st.outcome)},
-          {"t_reached [s]", st.t_reached},
-          {"message", st.message},
-          {"hint", st.hint},
-          {"steps", st.stats.steps},
-          {"residual_evaluations", st.stats.residual_evaluations},
-          {"jacobian_evaluations", st.stats.jacobian_evaluations},
-          {"nonlinear_iterations", st.stats.nonlinear_iterations},
-          {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
-          {"error_test_failures", st.stats.error_test_failures},
-          {"roots_found", st.stats.roots_found},
-          {"root_stall_restarts", st.root_stall_restarts},
-          {"linear_solver", multibody::ToString(st.linear_solver)},
-          {"unknowns", st.unknowns},
-          {"wall_time [s]", st.wall_seconds},
-          {"output_time [s]", st.output_seconds}};
+                      {"t_reached [s]", st.t_reached},
+                      {"message", st.message},
+                      {"hint", st.hint},
+                      {"steps", st.stats.steps},
+                      {"residual_evaluations", st.stats.residual_evaluations},
+                      {"jacobian_evaluations", st.stats.jacobian_evaluations},
+                      {"nonlinear_iterations", st.stats.nonlinear_iterations},
+                      {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
+                      {"error_test_failures", st.stats.error_test_failures},
+                      {"roots_found", st.stats.roots_found},
+                      {"root_stall_restarts", st.root_stall_restarts},
+                      {"linear_solver", multibody::ToString(st.linear_solver)},
+                      {"unknowns", st.unknowns},
+                      {"wall_time [s]", st.wall_seconds},
+                      {"output_time [s]", st.output_seconds}};
   if (profiled) {
     j["residual_time [s]"] = st.stats.residual_seconds;
     j["jacobian_time [s]"] = st.stats.jacobian_seconds;
@@ -347,15 +391,18 @@ nlohmann::json SignalSummaryJson(const study::SignalSummary& a, const std::strin
           {"peak_negative", a.peak_negative},
           {"rms", a.rms},
           {"revolutions", a.positive.num_revolutions},
-          {"per_revolution_positive", {{"median", a.positive.median}, {"p95", a.positive.p95}, {"max", a.positive.max}}},
-          {"per_revolution_negative", {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}},
-          {"per_revolution_abs", {{"median", a.magnitude.median}, {"p95", a.magnitude.p95}, {"max", a.magnitude.max}}}};
+          {"per_revolution_positive",
+           {{"median", a.positive.median}, {"p95", a.positive.p95}, {"max", a.positive.max}}},
+          {"per_revolution_negative",
+           {{"median", a.negative.median}, {"p95", a.negative.p95}, {"max", a.negative.max}}},
+          {"per_revolution_abs",
+           {{"median", a.magnitude.median}, {"p95", a.magnitude.p95}, {"max", a.magnitude.max}}}};
 }
 
 /// The run's summary from its record, the record's running channel statistics (Recorder::stats,
 /// in channel order) and its slider acceleration statistics (slider-cranks).
-nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& stats, const Config& cfg,
-                         const MechanismModel& mm) {
+nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& stats,
+                         const Config& cfg, const MechanismModel& mm) {
   const study::TimeSeries& ts = run.channels;
   nlohmann::json s;
   if (ts.num_samples() == 0) return s;
@@ -365,9 +412,10 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
   };
   for (size_t c = 0; c < stats.size(); ++c) {
     const study::Channel& ch = ts.channels()[c];
-    s["channels"][ch.name] = {{"unit", ch.unit},
-                              {"peak_abs", stats[c].peak_abs()},
-                              {"rms", std::sqrt(stats[c].sum_squares / static_cast<double>(ts.num_samples()))}};
+    s["channels"][ch.name] = {
+        {"unit", ch.unit},
+        {"peak_abs", stats[c].peak_abs()},
+        {"rms", std::sqrt(stats[c].sum_squares / static_cast<double>(ts.num_samples()))}};
   }
   if (!mm.is_pendulum && ts.num_samples() > 2) {
     // Crank speed over the capture: the mean from the angle advanced (exact for any sampling),
@@ -377,23 +425,39 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
     s["crank_speed"] = {{"mean [rad/s]", (th.back() - th.front()) / duration},
                         {"min [rad/s]", stat("crank_speed").min},
                         {"max [rad/s]", stat("crank_speed").max},
-                        {"set [rad/s]", cfg.Text("drive.type") == "profile" ? nlohmann::json(nullptr)
-                                                                            : nlohmann::json(cfg.Quantity("drive.speed"))}};
-    if (run.slider_acceleration) s["slider_acceleration"] = SignalSummaryJson(*run.slider_acceleration, "m/s^2");
+                        {"set [rad/s]", cfg.Text("drive.type") == "profile"
+                                            ? nlohmann::json(nullptr)
+                                            : nlohmann::json(cfg.Quantity("drive.speed"))}};
+    if (run.slider_acceleration)
+      s["slider_acceleration"] = SignalSummaryJson(*run.slider_acceleration, "m/s^2");
   }
-  if (mm.rod) {
+  if (mm.rod || mm.exact) {
     double peak_stress = 0.0;
     for (size_t c = 0; c < stats.size(); ++c) {
-      if (ts.channels()[c].name.rfind("stress_", 0) == 0) peak_stress = std::max(peak_stress, stats[c].peak_abs());
+      if (ts.channels()[c].name.rfind("stress_", 0) == 0)
+        peak_stress = std::max(peak_stress, stats[c].peak_abs());
     }
-    const double yield = mm.rod->rod.material.yield_strength;
-    s["rod"] = {{"peak_gauge_stress [Pa]", peak_stress},
+    const double yield = (mm.rod ? mm.rod->rod : mm.exact->rod).material.yield_strength;
+    s["rod"] = {{"model", mm.rod ? "reduced" : "exact"},
+                {"peak_gauge_stress [Pa]", peak_stress},
                 {"yield_strength [Pa]", yield},
-                {"safety_factor", peak_stress > 0.0 ? nlohmann::json(yield / peak_stress) : nlohmann::json(nullptr)},
-                {"frequencies [Hz]", std::vector<double>(mm.rod->frequencies_hz.data(),
-                                                         mm.rod->frequencies_hz.data() + mm.rod->frequencies_hz.size())}};
-    const std::string precision = fem::MeshPrecisionWarning(mm.rod->rod, mm.rod->reduction.method);
-    if (!precision.empty()) s["warnings"].push_back(precision);
+                {"safety_factor", peak_stress > 0.0 ? nlohmann::json(yield / peak_stress)
+                                                    : nlohmann::json(nullptr)}};
+    if (mm.mechanism_frequencies_hz.size() > 0) {
+      // The rod's modes in the assembled mechanism (crank held) and the damping ratios they get.
+      const Vec& f = mm.mechanism_frequencies_hz;
+      const Vec& z = mm.mechanism_damping_ratios;
+      s["rod"]["mechanism_frequencies [Hz]"] = std::vector<double>(f.data(), f.data() + f.size());
+      s["rod"]["mechanism_damping_ratios"] = std::vector<double>(z.data(), z.data() + z.size());
+    }
+    if (mm.rod) {
+      s["rod"]["frequencies [Hz]"] =
+          std::vector<double>(mm.rod->frequencies_hz.data(),
+                              mm.rod->frequencies_hz.data() + mm.rod->frequencies_hz.size());
+      const std::string precision =
+          fem::MeshPrecisionWarning(mm.rod->rod, mm.rod->reduction.method);
+      if (!precision.empty()) s["warnings"].push_back(precision);
+    }
   }
   if (mm.clearance.index >= 0) {
     // Loaded contacts penetrate by micrometres; a tenth of the clearance means the law is far
@@ -406,16 +470,19 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
                               " % of joint.clearance: the contact law is too soft for the load");
     }
   }
-  const double worst = stat("energy_balance_error").peak_abs(), scale = stat("energy_kinetic").peak_abs();
+  const double worst = stat("energy_balance_error").peak_abs(),
+               scale = stat("energy_kinetic").peak_abs();
   if (worst > 1e-2 * scale) {
     // At the run default tolerances every normal and friction law closes the balance below 1e-3
     // of the peak kinetic energy on both rigs (tests/study/law_matrix_slowtest.cc; the standard
     // linear solid, which loses its wall's energy at onsets, below 1e-2; the presets' full runs:
     // 4e-5 to 9e-5).
-    s["warnings"].push_back("the energy balance error is " + FormatValue(worst) + " J, more than 1 % of the peak "
+    s["warnings"].push_back("the energy balance error is " + FormatValue(worst) +
+                            " J, more than 1 % of the peak "
                             "kinetic energy: the run is not converged; tighten sim.rel_tol");
   }
-  s["energy"] = {{"max_balance_error [J]", worst}, {"max_kinetic [J]", scale},
+  s["energy"] = {{"max_balance_error [J]", worst},
+                 {"max_kinetic [J]", scale},
                  {"relative_balance_error", scale > 0 ? worst / scale : 0.0}};
   s["max_constraint_violation [m]"] = std::max(0.0, stat("constraint_violation").max);
   return s;
@@ -442,15 +509,17 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     throw InputError("sim.steady_revolutions", std::to_string(max_revolutions),
                      "must be >= 2 (two revolutions are the least that can repeat)");
   }
-  if (start == "steady" && (mm.is_pendulum || !mm.rod)) {
-    throw InputError("sim.start", "steady",
-                     "needs a slider-crank with a flexible rod: the periodic steady state is found on the "
-                     "rod's elastic state at the crank index; use sim.settle instead");
+  if (start == "steady" && (mm.is_pendulum || !(mm.rod || mm.exact))) {
+    throw InputError(
+        "sim.start", "steady",
+        "needs a slider-crank with a flexible rod: the periodic steady state is found on the "
+        "rod's elastic state at the crank index; use sim.settle instead");
   }
   if (start == "steady" && cfg.Text("drive.type") != "constant") {
-    throw InputError("sim.start", "steady",
-                     "needs drive.type = constant (a periodic state has the crank's period; a motor's speed "
-                     "droops and fluctuates, a profile changes it); use sim.settle instead");
+    throw InputError(
+        "sim.start", "steady",
+        "needs drive.type = constant (a periodic state has the crank's period; a motor's speed "
+        "droops and fluctuates, a profile changes it); use sim.settle instead");
   }
 
   multibody::InitialConditionSpec ic;
@@ -478,12 +547,14 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     opt.start_sampling_at_index = true;
     if (cfg.Text("drive.type") == "constant") {
       // Exact index time: θ0 + ω t = θ_index + 2πk, first k with t ≥ settle.
-      const double theta0 = cfg.Quantity("drive.initial_angle"), idx = cfg.Quantity("sim.index_angle");
+      const double theta0 = cfg.Quantity("drive.initial_angle"),
+                   idx = cfg.Quantity("sim.index_angle");
       const double k = std::ceil((theta0 + w0 * settle - idx) / kTwoPi - 1e-12);
       t_capture_start = (idx + kTwoPi * k - theta0) / w0;
       opt.start_sampling_at_index = false;  // the grid starts exactly at the index time
     } else {
-      t_capture_start = settle + 0.0;  // the index event starts the grid; allow one extra revolution
+      t_capture_start =
+          settle + 0.0;  // the index event starts the grid; allow one extra revolution
     }
   } else {
     ic.fixed_coordinates = {m.coordinate(mm.conrod, multibody::kTheta)};
@@ -492,7 +563,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   opt.t_start = 0.0;
   opt.sample_start = opt.start_sampling_at_index ? settle : t_capture_start;
   opt.t_end = t_capture_start + capture;
-  if (!mm.is_pendulum && cfg.Text("drive.type") != "constant") opt.t_end += 1.0;  // wait for the index
+  if (!mm.is_pendulum && cfg.Text("drive.type") != "constant")
+    opt.t_end += 1.0;  // wait for the index
   opt.time_elements = profile;
   opt.integrator.time_calls = profile;
   opt.Validate(m);
@@ -524,50 +596,69 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     // The impact log also sees every integrator step and located event of the capture window
     // (from its first sample to its last); the samples reach it through the channels.
     cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
-      if (rec.size() == 0 || (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample)) return;
+      if (rec.size() == 0 ||
+          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample))
+        return;
       impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta),
                                                multibody::CalcClearanceResponse(s, mm.clearance)));
     };
   }
 
   RunResult out;
-  nlohmann::json steady;  // sim.start = steady: how the periodic state was found
+  nlohmann::json steady;    // sim.start = steady: how the periodic state was found
   if (start == "steady") {  // a slider-crank with a flexible rod (checked above)
     // Periodic steady state: revolution by revolution, from crank index to crank index, until
     // the rod's elastic coordinates at kSteadySamples points of a revolution repeat those of the
-    // previous one to 1000 · sim.rel_tol of their peak (kept within [1e-6, 1e-2]). The repeat cannot be closer
-    // than the integration error: on the flexible rig (ideal joint, 200 rpm) successive
-    // revolutions of a long run differ by 2e-4 of the peak at rel_tol 1e-6 and 1.5e-8 at 1e-8.
+    // previous one to 1000 · sim.rel_tol of their peak (kept within [1e-6, 1e-2]). The repeat
+    // cannot be closer than the integration error: on the flexible rig (ideal joint, 200 rpm)
+    // successive revolutions of a long run differ by 2e-4 of the peak at rel_tol 1e-6 and 1.5e-8 at
+    // 1e-8.
     constexpr int kSteadySamples = 16;
     const double tolerance = std::clamp(1e3 * opt.integrator.rel_tol, 1e-6, 1e-2);
     multibody::ConsistentState state = multibody::ComputeConsistentState(m, &data, 0.0, ic);
     const double period = kTwoPi / cfg.Quantity("drive.speed");
-    const double to_index = study::WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
+    const double to_index =
+        study::WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
     const double t_first_index = to_index * period / kTwoPi;
-    const int q0 = m.coordinate(mm.conrod, multibody::kFirstMode);
-    const int n = mm.rod->num_coordinates();
+    // The rod's elastic state: its elastic coordinates q (reduced rod), the nodes' deflections
+    // from the chord (exact rod).
+    const std::optional<study::ExactRodView> exact_view =
+        mm.exact ? std::optional<study::ExactRodView>(std::in_place, m, *mm.exact) : std::nullopt;
+    const int q0 = mm.rod ? m.coordinate(mm.conrod, multibody::kFirstMode) : 0;
+    const int n = mm.rod ? mm.rod->num_coordinates() : exact_view->num_nodes();
     Mat previous, now(kSteadySamples, n);
+    Vec state_row(n);
     multibody::SimulationOptions rev = opt;
     rev.start_sampling_at_index = false;
     rev.sample_rate = kSteadySamples / period;
     double change = std::numeric_limits<double>::infinity();  // no previous revolution yet
     int revolutions = 0;
     for (; revolutions < max_revolutions && change > tolerance; ++revolutions) {
-      // Segment r ends at the (r+1)-th index time after t_first_index; its last revolution is sampled.
+      // Segment r ends at the (r+1)-th index time after t_first_index; its last revolution is
+      // sampled.
       rev.t_end = t_first_index + (revolutions + 1) * period;
       rev.sample_start = rev.t_end - period + period / kSteadySamples;
       multibody::ConsistentState next;
       int k = 0;
       multibody::SimulationCallbacks c2;
       c2.on_sample = [&](const SampleView& s) {
-        if (k < kSteadySamples) now.row(k++) = Eigen::Map<const Vec>(s.y() + q0, n).transpose();
+        if (k < kSteadySamples) {
+          if (exact_view) {
+            exact_view->ElasticState(s.y(), state_row.data());
+          } else {
+            state_row = Eigen::Map<const Vec>(s.y() + q0, n);
+          }
+          now.row(k++) = state_row.transpose();
+        }
         next.t = s.t();
         next.y = Eigen::Map<const Vec>(s.y(), m.size());
         next.yp = Eigen::Map<const Vec>(s.yp(), m.size());
       };
       out.status = multibody::Simulate(m, &data, state, rev, c2);
       if (!out.status.ok() || k < kSteadySamples) break;
-      if (previous.size() > 0) change = (now - previous).cwiseAbs().maxCoeff() / std::max(now.cwiseAbs().maxCoeff(), 1e-300);
+      if (previous.size() > 0)
+        change =
+            (now - previous).cwiseAbs().maxCoeff() / std::max(now.cwiseAbs().maxCoeff(), 1e-300);
       previous = now;
       state = next;
     }
@@ -589,10 +680,12 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   if (!mm.is_pendulum && out.channels.num_samples() > 2) {
     // One split into revolutions for both channels (and, through the twin's, the amplification).
     const study::SampleRange all = out.channels.all();
-    const std::vector<study::SampleRange> revolutions =
-        study::SplitRevolutions(out.channels.values("crank_angle"), cfg.Quantity("sim.index_angle"), all);
-    out.slider_acceleration = study::CalcSignalSummary(out.channels.values("slider_acceleration"), all, revolutions);
-    out.bearing_force = study::CalcSignalSummary(out.channels.values("bearing_force"), all, revolutions);
+    const std::vector<study::SampleRange> revolutions = study::SplitRevolutions(
+        out.channels.values("crank_angle"), cfg.Quantity("sim.index_angle"), all);
+    out.slider_acceleration =
+        study::CalcSignalSummary(out.channels.values("slider_acceleration"), all, revolutions);
+    out.bearing_force =
+        study::CalcSignalSummary(out.channels.values("bearing_force"), all, revolutions);
   }
   out.summary = Summarise(out, rec.stats(), cfg, mm);
   out.summary["gauges"] = gauges;
@@ -600,10 +693,12 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     out.summary["steady_start"] = steady;
     if (!steady["converged"].get<bool>()) {
       out.summary["warnings"].push_back(
-          "sim.start = steady: the rod's elastic state did not repeat to " + FormatValue(steady["tolerance"].get<double>()) +
-          " within " + std::to_string(steady["revolutions"].get<int>()) + " revolutions (last change " +
+          "sim.start = steady: the rod's elastic state did not repeat to " +
+          FormatValue(steady["tolerance"].get<double>()) + " within " +
+          std::to_string(steady["revolutions"].get<int>()) + " revolutions (last change " +
           FormatValue(steady["relative_change"].get<double>()) +
-          " of its peak; a clearance joint's contact motion need not be periodic); the capture starts there");
+          " of its peak; a clearance joint's contact motion need not be periodic); the capture "
+          "starts there");
     }
   }
   if (impacts && out.channels.num_samples() > 2) {
@@ -621,12 +716,14 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
                               {"mean_duration [s]", st.mean_duration},
                               {"total_dissipated_energy [J]", st.total_dissipated_energy}};
     for (const contact::ResolvedParameter& p : mm.joint_parameters) {
-      out.summary["joint_parameters"][p.name] = {{"value", p.value}, {"unit", p.unit}, {"source", p.source}};
+      out.summary["joint_parameters"][p.name] = {
+          {"value", p.value}, {"unit", p.unit}, {"source", p.source}};
     }
   }
   out.summary["integrator"] = StatusJson(out.status, profile);
   for (size_t e = 0; e < out.status.element_seconds.size(); ++e) {  // RunOutputOptions::profile
-    nlohmann::json& t = out.summary["integrator"]["element_time [s]"][m.elements()[e].element->type_name()];
+    nlohmann::json& t =
+        out.summary["integrator"]["element_time [s]"][m.elements()[e].element->type_name()];
     t = (t.is_null() ? 0.0 : t.get<double>()) + out.status.element_seconds[e];
   }
   out.summary["samples"] = out.channels.num_samples();
@@ -656,16 +753,23 @@ void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
 
 }  // namespace
 
-RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
-                        const RunOutputOptions& outputs) {
+RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
+                        bool ideal_joint, const RunOutputOptions& outputs) {
   std::optional<study::VtkOptions> vtk_options;
   if (outputs.record_vtk || !outputs.vtk_dir.empty()) {
+    if (cfg.Text("rod.type") == "exact") {
+      throw InputError(
+          "--vtk", outputs.vtk_dir,
+          "is not available with rod.type = exact yet (the reduced and rigid rods only)");
+    }
     vtk_options = study::VtkOptions::FromConfig(cfg);  // bad vtk.* keys fail before any work
     if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
   }
   MechanismModel mm;
-  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr, outputs.profile);
-  if (out.vtk && !outputs.vtk_dir.empty()) out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
+  RunResult out =
+      RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr, outputs.profile);
+  if (out.vtk && !outputs.vtk_dir.empty())
+    out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
   if (!clearance || out.channels.num_samples() < 3) return out;
   // The ideal-joint twin: same mechanism, same rod, same capture window.
@@ -674,13 +778,18 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     computed = true;
     return std::make_shared<const RunResult>(RunOne(cfg, mm.rod, true, nullptr));
   };
-  const std::shared_ptr<const RunResult> twin = outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
+  const std::shared_ptr<const RunResult> twin =
+      outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
   out.summary["ideal"] = twin->summary;
   out.summary["ideal"]["reused"] = !computed;
-  if (twin->ok() && twin->channels.num_samples() == out.channels.num_samples() && out.slider_acceleration &&
+  if (twin->ok() && twin->channels.num_samples() == out.channels.num_samples() &&
+      out.slider_acceleration &&
       twin->slider_acceleration) {  // (and bearing_force: both are set together)
-    const study::LoadAmplification a = study::CalcLoadAmplification(*out.slider_acceleration, *twin->slider_acceleration);
-    auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    const study::LoadAmplification a =
+        study::CalcLoadAmplification(*out.slider_acceleration, *twin->slider_acceleration);
+    auto num = [](double v) {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+    };
     nlohmann::json amp = {{"slider_acceleration_positive", num(a.positive)},
                           {"slider_acceleration_negative", num(a.negative)},
                           {"slider_acceleration_positive_p95", num(a.positive_p95)},
@@ -700,7 +809,8 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     amp["bearing_force_p95"] = num(fi.positive.p95 > 0 ? fr.positive.p95 / fi.positive.p95 : NAN);
     out.summary["load_amplification"] = amp;
   }
-  out.ideal = std::shared_ptr<const study::TimeSeries>(twin, &twin->channels);  // lives with the twin
+  out.ideal =
+      std::shared_ptr<const study::TimeSeries>(twin, &twin->channels);  // lives with the twin
   return out;
 }
 
@@ -712,8 +822,8 @@ std::string TwinKey(const Config& cfg) {
   return key;
 }
 
-std::shared_ptr<const RunResult> TwinCache::Get(const Config& cfg,
-                                                const std::function<std::shared_ptr<const RunResult>()>& compute) {
+std::shared_ptr<const RunResult> TwinCache::Get(
+    const Config& cfg, const std::function<std::shared_ptr<const RunResult>()>& compute) {
   return twins_.Get(TwinKey(cfg), compute);
 }
 
@@ -728,8 +838,8 @@ Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params)
   for (const auto& [name, p] : params.items()) {
     const double value = p.at("value").get<double>();
     const std::string unit = p.at("unit").get<std::string>();
-    const std::string text = FormatValue(value) + (unit.empty() || unit == "1" ? "" : " " + unit) + " (" +
-                             p.at("source").get<std::string>() + ")";
+    const std::string text = FormatValue(value) + (unit.empty() || unit == "1" ? "" : " " + unit) +
+                             " (" + p.at("source").get<std::string>() + ")";
     std::string key = name;
     const std::string law = "joint.law.";
     if (key.rfind(law, 0) == 0) {
@@ -752,8 +862,9 @@ void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& r
                    const std::string& shared_ideal_csv) {
   EnsureDirectory("--out", dir);
   const CsvSelection csv = ReadCsvSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
-  const Config::DerivedNotes notes =
-      run.summary.contains("joint_parameters") ? JointNotes(cfg, run.summary["joint_parameters"]) : Config::DerivedNotes{};
+  const Config::DerivedNotes notes = run.summary.contains("joint_parameters")
+                                         ? JointNotes(cfg, run.summary["joint_parameters"])
+                                         : Config::DerivedNotes{};
   WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml(notes));
   study::WriteCsv(SelectForCsv(run.channels, csv), dir + "/channels.csv");
   if (!run.impacts.empty()) study::WriteImpactCsv(run.impacts, dir + "/impacts.csv");
@@ -766,9 +877,11 @@ void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& r
       namespace fs = std::filesystem;
       std::error_code ec;
       fs::remove(path, ec);
-      const fs::path target = fs::relative(fs::absolute(shared_ideal_csv), fs::absolute(dir + "/ideal"));
+      const fs::path target =
+          fs::relative(fs::absolute(shared_ideal_csv), fs::absolute(dir + "/ideal"));
       fs::create_symlink(target, path, ec);
-      if (ec) throw InputError("--out", path, "cannot link to " + shared_ideal_csv + ": " + ec.message());
+      if (ec)
+        throw InputError("--out", path, "cannot link to " + shared_ideal_csv + ": " + ec.message());
     }
   }
   WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");

@@ -6,7 +6,9 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "multibody/mechanism_modes.h"
 #include "study/joint_config.h"
+#include "study/mechanism_damping.h"
 #include "study/rod_config.h"
 
 namespace flexrod {
@@ -31,7 +33,8 @@ multibody::DampingSpec DampingFromConfig(const Config& cfg) {
     RequireNonNegative("damping.ratio", zeta);
     d = zeta > 0.0 ? multibody::DampingSpec::ModalRatio({zeta}) : multibody::DampingSpec::None();
   } else {
-    d = multibody::DampingSpec::Rayleigh(cfg.Quantity("damping.alpha"), cfg.Quantity("damping.beta"));
+    d = multibody::DampingSpec::Rayleigh(cfg.Quantity("damping.alpha"),
+                                         cfg.Quantity("damping.beta"));
   }
   return d;
 }
@@ -46,10 +49,12 @@ std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
       throw InputError("drive.profile", text, "must be comma-separated time:speed pairs (s:rpm)");
     }
     const double t = ParseQuantity("drive.profile", item.substr(0, colon), Dimension::kTime);
-    const double rpm = ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
+    const double rpm =
+        ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
     knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
   }
-  if (knots.size() < 2) throw InputError("drive.profile", text, "needs at least two time:speed pairs");
+  if (knots.size() < 2)
+    throw InputError("drive.profile", text, "needs at least two time:speed pairs");
   for (size_t k = 1; k < knots.size(); ++k) {
     if (!(knots[k].first > knots[k - 1].first)) {
       throw InputError("drive.profile", text, "the times must be strictly increasing");
@@ -60,8 +65,8 @@ std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
 
 }  // namespace
 
-std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
-  if (cfg.Text("rod.type") != "flexible") return nullptr;
+/// The rod of the input with its clamps as rigid attachments (flexible and exact rods).
+fem::RodSpec RodWithClamps(const Config& cfg) {
   fem::RodSpec rod = RodFromConfig(cfg);
   const double big_mass = cfg.Quantity("clamp.big_mass");
   const double small_mass = cfg.Quantity("clamp.small_mass");
@@ -70,20 +75,31 @@ std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
   RequireNonNegative("clamp.big_inertia", cfg.Quantity("clamp.big_inertia"));
   RequireNonNegative("clamp.small_inertia", cfg.Quantity("clamp.small_inertia"));
   if (big_mass > 0.0 || cfg.Quantity("clamp.big_inertia") > 0.0) {
-    rod.attachments.push_back({"big-end clamp", 0, big_mass, cfg.Quantity("clamp.big_inertia"), Vec2::Zero()});
+    rod.attachments.push_back(
+        {"big-end clamp", 0, big_mass, cfg.Quantity("clamp.big_inertia"), Vec2::Zero()});
   }
   if (small_mass > 0.0 || cfg.Quantity("clamp.small_inertia") > 0.0) {
-    rod.attachments.push_back({"small-end clamp", rod.num_elements, small_mass,
-                               cfg.Quantity("clamp.small_inertia"),
-                               Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
+    rod.attachments.push_back(
+        {"small-end clamp", rod.num_elements, small_mass, cfg.Quantity("clamp.small_inertia"),
+         Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
   }
   rod.Validate();
+  return rod;
+}
+
+std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
+  if (cfg.Text("rod.type") != "flexible") return nullptr;
+  const fem::RodSpec rod = RodWithClamps(cfg);
   const fem::ReductionSpec spec = MechanismReductionFromConfig(cfg, rod);
   return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
 }
 
-MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
-                              bool ideal_joint) {
+/// One build of the mechanism; `rod_damping` (may be null: damping.* as is) is the flexible
+/// rod's damping. BuildMechanism below decides which.
+static MechanismModel BuildMechanismPass(const Config& cfg,
+                                         std::shared_ptr<const fem::ReducedRod> rod,
+                                         bool ideal_joint,
+                                         const multibody::DampingSpec* rod_damping) {
   MechanismModel out;
   multibody::MechanismBuilder b;
   const bool flexible = cfg.Text("rod.type") == "flexible";
@@ -93,6 +109,7 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   RequirePositive("rod.length", length);
   const Vec2 big_offset(cfg.Quantity("rod.big_end_x"), cfg.Quantity("rod.big_end_y"));
   const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
+  const bool exact = cfg.Text("rod.type") == "exact";
   const int last_node = flexible ? rod->rod.num_nodes() - 1 : 0;
   // Joint-to-joint vector in the rod frame (undeformed).
   const Vec2 big_point = big_offset;
@@ -105,11 +122,29 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     multibody::FlexibleBodySpec fs;
     fs.name = "rod";
     fs.rod = rod;
-    fs.damping = DampingFromConfig(cfg);
+    fs.damping = rod_damping != nullptr ? *rod_damping : DampingFromConfig(cfg);
     fs.geometric_stiffening = cfg.Bool("rod.geometric_stiffening");
     out.conrod = b.AddFlexibleBody(fs);
     out.big_end = b.AddNodeMarker(out.conrod, "big-end", 0, big_offset);
     out.small_end = b.AddNodeMarker(out.conrod, "small-end", last_node, small_offset);
+  } else if (exact) {
+    // The geometrically exact rod (multibody/exact_rod.h): Kelvin–Voigt damping β from the
+    // Rayleigh stiffness factor (BuildMechanism refers ratio and band damping to it).
+    const multibody::DampingSpec damping =
+        rod_damping != nullptr ? *rod_damping : DampingFromConfig(cfg);
+    if (damping.kind == multibody::DampingKind::kRayleigh && damping.rayleigh_alpha != 0.0) {
+      throw InputError("damping.alpha", FormatValue(damping.rayleigh_alpha) + " 1/s",
+                       "must be 0 with rod.type = exact: mass-proportional damping would damp the "
+                       "rod's rigid motion");
+    }
+    multibody::ExactRodSpec es;
+    es.name = "rod";
+    es.rod = RodWithClamps(cfg);
+    es.beta = damping.kind == multibody::DampingKind::kRayleigh ? damping.rayleigh_beta : 0.0;
+    out.exact = std::make_shared<const multibody::ExactRod>(multibody::AddExactRod(&b, es));
+    out.conrod = out.exact->nodes.front();
+    out.big_end = b.AddBodyMarker(out.exact->nodes.front(), "big-end", big_offset);
+    out.small_end = b.AddBodyMarker(out.exact->nodes.back(), "small-end", small_offset);
   } else {
     double mass = cfg.Quantity("rod.rigid_mass");
     double inertia = cfg.Quantity("rod.rigid_inertia");
@@ -124,7 +159,8 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     out.small_end = b.AddBodyMarker(out.conrod, "small-end", small_point);
   }
 
-  if (cfg.Bool("gravity.enabled")) b.SetGravity(Vec2(cfg.Quantity("gravity.x"), cfg.Quantity("gravity.y")));
+  if (cfg.Bool("gravity.enabled"))
+    b.SetGravity(Vec2(cfg.Quantity("gravity.x"), cfg.Quantity("gravity.y")));
 
   if (cfg.Text("mechanism.type") == "pendulum") {
     // Rod pinned at the big-end point to the ground at the origin, released horizontally.
@@ -136,6 +172,7 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     const Vec2 R = -big_offset;
     out.p0[out.mechanism.coordinate(out.conrod, multibody::kX)] = R.x();
     out.p0[out.mechanism.coordinate(out.conrod, multibody::kY)] = R.y();
+    if (out.exact) multibody::SetExactRodPose(out.mechanism, *out.exact, R, 0.0, &out.p0);
     out.v0 = Vec::Zero(out.mechanism.num_coordinates());
     return out;
   }
@@ -162,8 +199,8 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   if (!(out.effective_length > r + std::abs(e))) {
     throw InputError("rod.length", FormatValue(length),
                      "the joint-to-joint length (" + FormatValue(out.effective_length) +
-                         " m) must exceed crank.length + |slider.offset| (" + FormatValue(r + std::abs(e)) +
-                         " m) for the crank to turn");
+                         " m) must exceed crank.length + |slider.offset| (" +
+                         FormatValue(r + std::abs(e)) + " m) for the crank to turn");
   }
   out.slider = b.AddRigidBody({"slider", slider_mass, 0.0, Vec2::Zero()});
   out.journal = b.AddBodyMarker(out.slider, "journal", Vec2::Zero());
@@ -225,10 +262,11 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     RequirePositive("drive.speed", w);
     const double voltage_fraction = m.ratio * w / rated_no_load;
     if (voltage_fraction > 1.0 + 1e-12) {
-      throw InputError("drive.speed", FormatValue(w) + " rad/s",
-                       "with drive.type = motor must be at most motor.no_load_speed / motor.belt_ratio = " +
-                           FormatValue(rated_no_load / m.ratio) +
-                           " rad/s: the no-load speed at full armature voltage");
+      throw InputError(
+          "drive.speed", FormatValue(w) + " rad/s",
+          "with drive.type = motor must be at most motor.no_load_speed / motor.belt_ratio = " +
+              FormatValue(rated_no_load / m.ratio) +
+              " rad/s: the no-load speed at full armature voltage");
     }
     m.stall_torque = voltage_fraction * rated_stall;
     m.no_load_speed = voltage_fraction * rated_no_load;  // = belt ratio · drive.speed
@@ -251,6 +289,7 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
     p[mech.coordinate(out.conrod, multibody::kX)] = R.x();
     p[mech.coordinate(out.conrod, multibody::kY)] = R.y();
     p[mech.coordinate(out.conrod, multibody::kTheta)] = theta_rod;
+    if (out.exact) multibody::SetExactRodPose(mech, *out.exact, R, theta_rod, &p);
     p[mech.coordinate(out.slider, multibody::kX)] = S.x();
     p[mech.coordinate(out.slider, multibody::kY)] = S.y();
     return p;
@@ -262,6 +301,72 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   const double w0 = drive == "profile" ? 0.0 : cfg.Quantity("drive.speed");
   constexpr double kH = 1e-6;
   out.v0 = w0 * (rigid_pose(theta0 + kH) - rigid_pose(theta0 - kH)) / (2.0 * kH);
+  return out;
+}
+
+MechanismModel BuildMechanismWithRodDamping(const Config& cfg,
+                                            std::shared_ptr<const fem::ReducedRod> rod,
+                                            bool ideal_joint,
+                                            const multibody::DampingSpec& rod_damping) {
+  return BuildMechanismPass(cfg, std::move(rod), ideal_joint, &rod_damping);
+}
+
+namespace {
+
+/// The exact rod's Kelvin–Voigt β for damping.type = ratio | band: fitted so that the rod's
+/// first mode in the assembled mechanism (crank held, initial crank angle, ideal small-end joint,
+/// as for the reduced rod) has the requested ratio, ζ_1 = β ω_1 / 2; higher modes get more
+/// (ζ_i = β ω_i / 2), as from a Rayleigh stiffness term fitted to mode 1.
+MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
+  const std::string type = cfg.Text("damping.type");
+  const double ratio = type == "ratio" ? cfg.Quantity("damping.ratio") : 0.0;
+  RequireNonNegative("damping.ratio", ratio);
+  if (type == "rayleigh" || (type == "ratio" && ratio == 0.0)) {
+    return BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr);
+  }
+  const MechanismModel undamped = BuildMechanismWithRodDamping(cfg, nullptr, /*ideal_joint=*/true,
+                                                               multibody::DampingSpec::None());
+  const multibody::MechanismModes modes = multibody::CalcMechanismModes(
+      undamped.mechanism, undamped.p0, HeldForMechanismModes(undamped));
+  int first = 0;
+  while (first < modes.frequencies_hz.size() && !(modes.frequencies_hz[first] > 0.0)) ++first;
+  if (first == modes.frequencies_hz.size()) {
+    throw NumericalError(
+        "rod.type = exact: the mechanism has no elastic mode to refer damping.* to");
+  }
+  const double f1 = modes.frequencies_hz[first];
+  const multibody::DampingSpec band = multibody::DampingSpec::FrequencyBand();
+  const double zeta = type == "ratio"                ? ratio
+                      : f1 < band.band_low_limit_hz  ? band.band_low_ratio
+                      : f1 < band.band_high_limit_hz ? band.band_mid_ratio
+                                                     : band.band_high_ratio;
+  const double beta = 2.0 * zeta / (2.0 * std::numbers::pi * f1);
+  MechanismModel out = BuildMechanismWithRodDamping(cfg, nullptr, ideal_joint,
+                                                    multibody::DampingSpec::Rayleigh(0.0, beta));
+  const int count = std::min<int>(8, static_cast<int>(modes.frequencies_hz.size()) - first);
+  out.mechanism_frequencies_hz = modes.frequencies_hz.segment(first, count);
+  out.mechanism_damping_ratios =
+      (std::numbers::pi * beta) * out.mechanism_frequencies_hz;  // β ω / 2
+  return out;
+}
+
+}  // namespace
+
+MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
+                              bool ideal_joint) {
+  if (cfg.Text("rod.type") == "exact") return BuildExactRodMechanism(cfg, ideal_joint);
+  if (!DampingRefersToMechanism(cfg))
+    return BuildMechanismPass(cfg, std::move(rod), ideal_joint, nullptr);
+  // Modal damping refers to the rod's modes in the assembled mechanism: build it undamped (ideal
+  // small-end joint), take its modes, build it again with the matching damping matrix.
+  if (!rod) rod = BuildReducedRod(cfg);
+  const MechanismModel undamped =
+      BuildMechanismWithRodDamping(cfg, rod, /*ideal_joint=*/true, multibody::DampingSpec::None());
+  const MechanismDamping referred = ReferDampingToMechanism(cfg, undamped);
+  MechanismModel out =
+      BuildMechanismWithRodDamping(cfg, std::move(rod), ideal_joint, referred.spec);
+  out.mechanism_frequencies_hz = referred.frequencies_hz;
+  out.mechanism_damping_ratios = referred.ratios;
   return out;
 }
 

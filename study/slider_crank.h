@@ -16,6 +16,7 @@
 
 #include "fem/reduced_rod.h"
 #include "multibody/clearance_joint.h"
+#include "multibody/exact_rod.h"
 #include "multibody/mechanism.h"
 #include "study/config.h"
 
@@ -23,8 +24,11 @@ namespace flexrod {
 
 struct MechanismModel {
   multibody::Mechanism mechanism;
-  std::shared_ptr<const fem::ReducedRod> rod;   ///< null for a rigid rod
-  multibody::BodyId crank, conrod, slider;      ///< slider-crank bodies (pendulum: conrod only)
+  std::shared_ptr<const fem::ReducedRod> rod;  ///< rod.type = flexible (null otherwise)
+  /// rod.type = exact: the geometrically exact rod's node bodies and elements (null otherwise);
+  /// `conrod` is then its node-0 body.
+  std::shared_ptr<const multibody::ExactRod> exact;
+  multibody::BodyId crank, conrod, slider;  ///< slider-crank bodies (pendulum: conrod only)
   multibody::MarkerId crank_pin, big_end, small_end, journal;
   multibody::JointId crank_pivot_joint, big_end_joint, small_end_joint, guide_joint;
   multibody::DriverId driver;
@@ -33,11 +37,16 @@ struct MechanismModel {
   multibody::ElementId clearance;
   /// Resolved clearance-joint parameters (SI; study/joint_config.h), empty with an ideal joint.
   std::vector<contact::ResolvedParameter> joint_parameters;
-  Vec p0;                      ///< initial coordinates of the rigid motion (q = 0)
-  Vec v0;                      ///< initial velocities of the rigid motion (q̇ = 0)
-  double crank_length{0.0};    ///< [m]
+  Vec p0;                        ///< initial coordinates of the rigid motion (q = 0)
+  Vec v0;                        ///< initial velocities of the rigid motion (q̇ = 0)
+  double crank_length{0.0};      ///< [m]
   double effective_length{0.0};  ///< crank pin to bush centre, undeformed [m]
   bool is_pendulum{false};
+  /// damping.type = ratio | band with a flexible rod: the rod's modes in the assembled
+  /// mechanism (crank held, initial crank angle, ideal small-end joint) and the damping ratios
+  /// given to them (study/mechanism_damping.h); empty otherwise.
+  Vec mechanism_frequencies_hz;  ///< [Hz], ascending
+  Vec mechanism_damping_ratios;  ///< [-]
 };
 
 /// Reduced rod for the run (flexible rod only): rod.*, reduction.*, clamps as attachments.
@@ -45,7 +54,17 @@ std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg);
 
 /// The mechanism for the input. `rod` from BuildReducedRod (null: built here, or rigid rod).
 /// `ideal_joint` forces an ideal small-end joint (the ideal twin of a clearance run).
+/// damping.type = ratio | band with a flexible rod: the rod's damping refers to its modes in the
+/// assembled mechanism (study/mechanism_damping.h; the mechanism is built twice).
 MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
                               bool ideal_joint = false);
+
+/// BuildMechanism with the flexible (reduced) rod's damping `rod_damping` as given instead of
+/// from damping.* (no referral to the mechanism's modes): BuildMechanism's two passes, and
+/// checks against other damping (e.g. the clamped-frame DampingSpec::ModalRatio).
+MechanismModel BuildMechanismWithRodDamping(const Config& cfg,
+                                            std::shared_ptr<const fem::ReducedRod> rod,
+                                            bool ideal_joint,
+                                            const multibody::DampingSpec& rod_damping);
 
 }  // namespace flexrod

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The run layer end to end: builder geometry, channels and their signs, energy, bad input.
+#include "study/run.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 
 #include "common/error.h"
 #include "study/presets.h"
-#include "study/run.h"
 
 namespace flexrod {
 namespace {
@@ -27,16 +28,20 @@ Config Preset(const std::string& name, const std::vector<std::string>& sets) {
 /// (truncation ~h⁴ = 1e-12 relative for h = 1e-3).
 struct ExactCrank {
   double r, l, e;
-  double x(double th) const { return r * std::cos(th) + std::sqrt(l * l - std::pow(e - r * std::sin(th), 2)); }
+  double x(double th) const {
+    return r * std::cos(th) + std::sqrt(l * l - std::pow(e - r * std::sin(th), 2));
+  }
   double dx(double th, double h = 1e-3) const {
     return (-x(th + 2 * h) + 8 * x(th + h) - 8 * x(th - h) + x(th - 2 * h)) / (12 * h);
   }
   double ddx(double th, double h = 1e-3) const {
-    return (-x(th + 2 * h) + 16 * x(th + h) - 30 * x(th) + 16 * x(th - h) - x(th - 2 * h)) / (12 * h * h);
+    return (-x(th + 2 * h) + 16 * x(th + h) - 30 * x(th) + 16 * x(th - h) - x(th - 2 * h)) /
+           (12 * h * h);
   }
 };
 
-double MaxRelativeError(const study::TimeSeries& ts, const ExactCrank& k, double w, const char* what) {
+double MaxRelativeError(const study::TimeSeries& ts, const ExactCrank& k, double w,
+                        const char* what) {
   const auto th = ts.values("crank_angle");
   const auto ch = ts.values(what);
   double err = 0.0, scale = 0.0;
@@ -52,9 +57,10 @@ double MaxRelativeError(const study::TimeSeries& ts, const ExactCrank& k, double
 }
 
 TEST(RigidRig, IdealJointWithSliderOffsetMatchesExactKinematics) {
-  const Config cfg = Preset("rigid-rig", {"joint.type=ideal", "slider.offset=12 mm", "slider.damping=0", "slider.friction=0",
-                                          "sim.settle=0 s", "sim.capture=0.35 s", "sim.sample_rate=20 kHz",
-                                          "sim.rel_tol=1e-10", "sim.abs_tol=1e-12"});
+  const Config cfg =
+      Preset("rigid-rig", {"joint.type=ideal", "slider.offset=12 mm", "slider.damping=0",
+                           "slider.friction=0", "sim.settle=0 s", "sim.capture=0.35 s",
+                           "sim.sample_rate=20 kHz", "sim.rel_tol=1e-10", "sim.abs_tol=1e-12"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const ExactCrank k{0.05, 0.30, 0.012};
@@ -74,13 +80,16 @@ TEST(RigidRig, IdealJointWithSliderOffsetMatchesExactKinematics) {
 // two runs differ by 3e-5 of the peak.
 TEST(RigidRig, EliminatingThePrescribedCoordinatesKeepsTheRun) {
   auto run = [](const char* eliminate) {
-    return RunSimulation(Preset("rigid-rig", {"joint.type=ideal", "slider.friction=0 N", "sim.settle=0 s",
-                                              "sim.capture=0.2 s", "sim.sample_rate=10 kHz", "sim.rel_tol=1e-10",
-                                              "sim.abs_tol=1e-12", eliminate}));
+    return RunSimulation(
+        Preset("rigid-rig",
+               {"joint.type=ideal", "slider.friction=0 N", "sim.settle=0 s", "sim.capture=0.2 s",
+                "sim.sample_rate=10 kHz", "sim.rel_tol=1e-10", "sim.abs_tol=1e-12", eliminate}));
   };
-  const RunResult reduced = run("sim.eliminate_prescribed=true"), full = run("sim.eliminate_prescribed=false");
+  const RunResult reduced = run("sim.eliminate_prescribed=true"),
+                  full = run("sim.eliminate_prescribed=false");
   ASSERT_TRUE(reduced.ok() && full.ok());
-  EXPECT_EQ(full.summary["integrator"]["unknowns"].get<int>(), 40);  // 9 p, 9 v, 9 λ, 9 μ, 4 energies
+  EXPECT_EQ(full.summary["integrator"]["unknowns"].get<int>(),
+            40);  // 9 p, 9 v, 9 λ, 9 μ, 4 energies
   EXPECT_EQ(reduced.summary["integrator"]["unknowns"].get<int>(), 25);
   const Config preset = Preset("rigid-rig", {});
   const double mass = preset.Quantity("slider.mass"), damping = preset.Quantity("slider.damping");
@@ -113,13 +122,15 @@ TEST(RigidRig, EliminatingThePrescribedCoordinatesKeepsTheRun) {
 // modes make the run too slow for the unit suite.
 
 TEST(FlexibleRig, EnergyBalanceClosesAndConstraintsHold) {
-  const RunResult r = RunSimulation(
-      Preset("flexible-rig", {"joint.type=ideal", "sim.settle=0.2 s", "sim.capture=0.4 s", "sim.sample_rate=10 kHz"}));
+  const RunResult r =
+      RunSimulation(Preset("flexible-rig", {"joint.type=ideal", "sim.settle=0.2 s",
+                                            "sim.capture=0.4 s", "sim.sample_rate=10 kHz"}));
   ASSERT_TRUE(r.ok());
   // The driver-work quadrature is outside IDA's error test (its rate −λθ̇ carries the index-2
   // multiplier noise, multibody/simulate.h), so the balance closes to ~1e-5 at default tolerances.
   EXPECT_LT(r.summary["energy"]["relative_balance_error"].get<double>(), 1e-4);
-  // Default tolerances (abs 1e-8): position constraints hold to ~1e-9 m (1e-9 at 1e-10, engine test).
+  // Default tolerances (abs 1e-8): position constraints hold to ~1e-9 m (1e-9 at 1e-10, engine
+  // test).
   EXPECT_LT(r.summary["max_constraint_violation [m]"].get<double>(), 1e-8);
   EXPECT_GT(r.summary["rod"]["safety_factor"].get<double>(), 1.0);
   // Positive acceleration points away from the crank: at θ = 0 (index) the slider is at its
@@ -132,8 +143,13 @@ TEST(FlexibleRig, EnergyBalanceClosesAndConstraintsHold) {
 // that of a run settled for 20 revolutions from rest at the same crank angles, to the steady
 // search's tolerance (1000 · rel_tol of the peak; the settled run's own transient is far below).
 TEST(FlexibleRig, SteadyStartReachesThePeriodicStateOfALongSettling) {
-  const std::vector<std::string> common = {"joint.type=ideal", "drive.initial_angle=90 deg", "sim.capture=0.3 s",
-                                           "sim.sample_rate=10 kHz", "sim.rel_tol=1e-7"};
+  // rel_tol 3e-8: the band damping now refers to the rig's modes in the mechanism (mode 1 at
+  // 50.6 Hz gets 1 %, it had about 3.8 % on the clamped-frame basis), so the transient decays
+  // 0.39× per revolution and the search's revolution-to-revolution change must not be limited by
+  // the integration error (at 1e-7 the difference to the long settling was 8.8e-4 of the peak).
+  const std::vector<std::string> common = {"joint.type=ideal", "drive.initial_angle=90 deg",
+                                           "sim.capture=0.3 s", "sim.sample_rate=10 kHz",
+                                           "sim.rel_tol=3e-8"};
   std::vector<std::string> steady_sets = common, settled_sets = common;
   steady_sets.push_back("sim.start=steady");
   settled_sets.push_back("sim.settle=6 s");
@@ -142,11 +158,12 @@ TEST(FlexibleRig, SteadyStartReachesThePeriodicStateOfALongSettling) {
   ASSERT_TRUE(steady.ok() && settled.ok());
   const nlohmann::json& info = steady.summary["steady_start"];
   EXPECT_TRUE(info["converged"].get<bool>()) << info.dump();
-  EXPECT_NEAR(info["tolerance"].get<double>(), 1e-4, 1e-16);
+  EXPECT_NEAR(info["tolerance"].get<double>(), 3e-5, 1e-16);  // 1e3 × sim.rel_tol
   const auto a = steady.channels.values("crank_angle"), b = settled.channels.values("crank_angle");
   EXPECT_NEAR(std::remainder(a.front(), 2 * std::numbers::pi), 0.0, 1e-9);  // sim.index_angle = 0
   EXPECT_NEAR(std::remainder(b.front(), 2 * std::numbers::pi), 0.0, 1e-9);
-  const auto da = steady.channels.values("rod_deflection"), db = settled.channels.values("rod_deflection");
+  const auto da = steady.channels.values("rod_deflection"),
+             db = settled.channels.values("rod_deflection");
   const size_t per_rev = 3000;  // 0.3 s at 200 rpm, 10 kHz
   ASSERT_GE(std::min(da.size(), db.size()), per_rev);
   double diff = 0.0, peak = 0.0;
@@ -161,9 +178,9 @@ TEST(FlexibleRig, SteadyStartReachesThePeriodicStateOfALongSettling) {
 // periodic state) says so: converged false, its revolutions and last change, a warning, and the
 // capture from where it stopped.
 TEST(FlexibleRig, SteadyStartThatDoesNotRepeatWarnsAndCapturesFromWhereItStopped) {
-  const RunResult r = RunSimulation(Preset("flexible-rig", {"joint.type=ideal", "sim.capture=0.1 s", "sim.sample_rate=10 kHz",
-                                                            "sim.rel_tol=1e-7", "sim.start=steady",
-                                                            "sim.steady_revolutions=2"}));
+  const RunResult r = RunSimulation(
+      Preset("flexible-rig", {"joint.type=ideal", "sim.capture=0.1 s", "sim.sample_rate=10 kHz",
+                              "sim.rel_tol=1e-7", "sim.start=steady", "sim.steady_revolutions=2"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const nlohmann::json& info = r.summary["steady_start"];
   EXPECT_FALSE(info["converged"].get<bool>()) << info.dump();
@@ -171,16 +188,20 @@ TEST(FlexibleRig, SteadyStartThatDoesNotRepeatWarnsAndCapturesFromWhereItStopped
   EXPECT_GT(info["relative_change"].get<double>(), info["tolerance"].get<double>());
   ASSERT_TRUE(r.summary.contains("warnings"));
   bool warned = false;
-  for (const auto& w : r.summary["warnings"]) warned |= w.get<std::string>().find("did not repeat") != std::string::npos;
+  for (const auto& w : r.summary["warnings"])
+    warned |= w.get<std::string>().find("did not repeat") != std::string::npos;
   EXPECT_TRUE(warned) << r.summary["warnings"].dump();
-  // The capture starts at the crank index two revolutions after the first one (t = 0.6 s at 200 rpm).
+  // The capture starts at the crank index two revolutions after the first one (t = 0.6 s at 200
+  // rpm).
   EXPECT_EQ(r.channels.num_samples(), 1000u);
-  EXPECT_NEAR(std::remainder(r.channels.values("crank_angle").front(), 2 * std::numbers::pi), 0.0, 1e-9);
+  EXPECT_NEAR(std::remainder(r.channels.values("crank_angle").front(), 2 * std::numbers::pi), 0.0,
+              1e-9);
   EXPECT_NEAR(r.channels.start_time(), 0.6, 1e-9);
 }
 
 TEST(FlexiblePendulum, UndampedConservesEnergy) {
-  const RunResult r = RunSimulation(Preset("flexible-pendulum", {"sim.capture=0.4 s", "sim.sample_rate=5 kHz"}));
+  const RunResult r =
+      RunSimulation(Preset("flexible-pendulum", {"sim.capture=0.4 s", "sim.sample_rate=5 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   EXPECT_LT(r.summary["energy"]["relative_balance_error"].get<double>(), 1e-6);
   // It actually swung: the rod turned through more than 60 degrees.
@@ -194,8 +215,9 @@ TEST(FlexiblePendulum, UndampedConservesEnergy) {
 // 9 · 20 N m / 1900 rpm; the mean speed droops below the set speed by mean load / c, and
 // the motor's work closes the energy balance.
 TEST(RigidRig, MotorDriveRunsAtTheSetSpeedOnTheRatedTorqueLine) {
-  const Config cfg = Preset("rigid-rig", {"drive.type=motor", "drive.speed=177 rpm", "joint.type=ideal",
-                                          "sim.settle=0.5 s", "sim.capture=0.7 s", "sim.sample_rate=20 kHz"});
+  const Config cfg =
+      Preset("rigid-rig", {"drive.type=motor", "drive.speed=177 rpm", "joint.type=ideal",
+                           "sim.settle=0.5 s", "sim.capture=0.7 s", "sim.sample_rate=20 kHz"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
@@ -226,8 +248,9 @@ TEST(RigidRig, MotorDriveRunsAtTheSetSpeedOnTheRatedTorqueLine) {
 // Now 1.1e-3 of the peak power, a few ms after a reversal: the multipliers' Newton weights
 // are scaled by the step (3.6 ms here, IntegratorOptions), which leaves them ~1e-3 of play.
 TEST(RigidRig, IdealJointCrankTorqueCarriesThePowerAtTheDefaultTolerance) {
-  const RunResult r = RunSimulation(Preset("rigid-rig", {"joint.type=ideal", "sim.settle=0.5 s", "sim.capture=1 s",
-                                                         "sim.sample_rate=20 kHz"}));
+  const RunResult r =
+      RunSimulation(Preset("rigid-rig", {"joint.type=ideal", "sim.settle=0.5 s", "sim.capture=1 s",
+                                         "sim.sample_rate=20 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const auto w = r.channels.values("crank_speed");
   const auto torque = r.channels.values("crank_torque"), ke = r.channels.values("energy_kinetic");
@@ -278,7 +301,8 @@ TEST(RunInput, BadInputNamesKeyValueAndRule) {
 /// angle: revolution k holds the samples with floor((θ − index) / 2π) = k. The last bin and a
 /// first bin that starts after its index crossing are partial and left out. Independent of
 /// study::SplitRevolutions' crossing search.
-double PerRevolutionPeakP95(const std::vector<double>& f, std::span<const double> angle, double index) {
+double PerRevolutionPeakP95(const std::vector<double>& f, std::span<const double> angle,
+                            double index) {
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   auto bin = [&](double th) { return static_cast<long>(std::floor((th - index) / kTwoPi)); };
   long first = bin(angle.front());
@@ -287,12 +311,14 @@ double PerRevolutionPeakP95(const std::vector<double>& f, std::span<const double
   std::vector<double> peak(static_cast<size_t>(std::max(0L, last - first)), 0.0);
   for (size_t i = 0; i < f.size(); ++i) {
     const long k = bin(angle[i]);
-    if (k >= first && k < last) peak[static_cast<size_t>(k - first)] = std::max(peak[static_cast<size_t>(k - first)], f[i]);
+    if (k >= first && k < last)
+      peak[static_cast<size_t>(k - first)] = std::max(peak[static_cast<size_t>(k - first)], f[i]);
   }
   std::sort(peak.begin(), peak.end());
   const double h = 0.95 * static_cast<double>(peak.size() - 1);
   const size_t lo = static_cast<size_t>(std::floor(h));
-  return lo + 1 < peak.size() ? peak[lo] + (h - static_cast<double>(lo)) * (peak[lo + 1] - peak[lo]) : peak[lo];
+  return lo + 1 < peak.size() ? peak[lo] + (h - static_cast<double>(lo)) * (peak[lo + 1] - peak[lo])
+                              : peak[lo];
 }
 
 TEST(LoadAmplification, BearingForceOverRevolutionsMatchesItsDefinition) {
@@ -301,17 +327,21 @@ TEST(LoadAmplification, BearingForceOverRevolutionsMatchesItsDefinition) {
   // contact; ideal joint: the reaction), and bearing_force the ratio of the whole-window peaks.
   // Here the per-revolution peaks differ (measured ratios over the 5 revolutions: p95 164.729,
   // max 164.906, median 149.3), so the check tells the statistics apart.
-  const Config cfg = Preset("rigid-rig", {"joint.clearance=1 mm", "drive.speed=101 rpm", "sim.settle=0.2 s",
-                                          "sim.capture=3 s", "sim.sample_rate=20 kHz"});
+  const Config cfg =
+      Preset("rigid-rig", {"joint.clearance=1 mm", "drive.speed=101 rpm", "sim.settle=0.2 s",
+                           "sim.capture=3 s", "sim.sample_rate=20 kHz"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok() && r.ideal) << r.status.Summary();
-  const auto fn = r.channels.values("contact_normal_force"), ft = r.channels.values("contact_friction_force");
-  std::vector<double> real(fn.size()), ideal(r.ideal->values("bearing_force").begin(), r.ideal->values("bearing_force").end());
+  const auto fn = r.channels.values("contact_normal_force"),
+             ft = r.channels.values("contact_friction_force");
+  std::vector<double> real(fn.size()),
+      ideal(r.ideal->values("bearing_force").begin(), r.ideal->values("bearing_force").end());
   for (size_t i = 0; i < fn.size(); ++i) real[i] = std::hypot(fn[i], ft[i]);
   const double index = cfg.Quantity("sim.index_angle");
   const double expected_p95 = PerRevolutionPeakP95(real, r.channels.values("crank_angle"), index) /
                               PerRevolutionPeakP95(ideal, r.ideal->values("crank_angle"), index);
-  const double expected_peak = *std::max_element(real.begin(), real.end()) / *std::max_element(ideal.begin(), ideal.end());
+  const double expected_peak =
+      *std::max_element(real.begin(), real.end()) / *std::max_element(ideal.begin(), ideal.end());
   const auto& amp = r.summary["load_amplification"];
   EXPECT_NEAR(amp["bearing_force_p95"].get<double>(), expected_p95, 1e-9 * expected_p95);
   EXPECT_NEAR(amp["bearing_force"].get<double>(), expected_peak, 1e-12 * expected_peak);
@@ -322,8 +352,8 @@ TEST(RunSummary, ItsStatisticsAreThoseOfTheRecord) {
   // The summary's channel statistics are gathered while the samples are recorded, and its
   // slider-acceleration statistics share one split into revolutions; both must equal what the
   // record itself gives. Rigid rig, 1 mm clearance, 177 rpm, 3 revolutions at 20 kHz.
-  const Config cfg = Preset("rigid-rig", {"drive.speed=177 rpm", "sim.settle=0.1 s", "sim.capture=1.02 s",
-                                          "sim.sample_rate=20 kHz"});
+  const Config cfg = Preset("rigid-rig", {"drive.speed=177 rpm", "sim.settle=0.1 s",
+                                          "sim.capture=1.02 s", "sim.sample_rate=20 kHz"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const study::TimeSeries& ts = r.channels;
@@ -340,18 +370,24 @@ TEST(RunSummary, ItsStatisticsAreThoseOfTheRecord) {
     for (double v : c.values) sq += v * v;
     EXPECT_EQ(s["channels"][c.name]["peak_abs"].get<double>(), max_of(c.values, abs)) << c.name;
     EXPECT_NEAR(s["channels"][c.name]["rms"].get<double>(), std::sqrt(sq / c.values.size()),
-                1e-13 * std::sqrt(sq / c.values.size()) + 1e-300) << c.name;
+                1e-13 * std::sqrt(sq / c.values.size()) + 1e-300)
+        << c.name;
   }
   EXPECT_EQ(s["crank_speed"]["max [rad/s]"].get<double>(), max_of(ts.values("crank_speed"), same));
-  EXPECT_EQ(s["crank_speed"]["min [rad/s]"].get<double>(), -max_of(ts.values("crank_speed"), std::negate<>()));
-  EXPECT_EQ(s["energy"]["max_balance_error [J]"].get<double>(), max_of(ts.values("energy_balance_error"), abs));
-  EXPECT_EQ(s["max_constraint_violation [m]"].get<double>(), max_of(ts.values("constraint_violation"), same));
-  const study::SignalSummary a =
-      study::CalcSignalSummary(ts, "slider_acceleration", "crank_angle", cfg.Quantity("sim.index_angle"), ts.all());
+  EXPECT_EQ(s["crank_speed"]["min [rad/s]"].get<double>(),
+            -max_of(ts.values("crank_speed"), std::negate<>()));
+  EXPECT_EQ(s["energy"]["max_balance_error [J]"].get<double>(),
+            max_of(ts.values("energy_balance_error"), abs));
+  EXPECT_EQ(s["max_constraint_violation [m]"].get<double>(),
+            max_of(ts.values("constraint_violation"), same));
+  const study::SignalSummary a = study::CalcSignalSummary(
+      ts, "slider_acceleration", "crank_angle", cfg.Quantity("sim.index_angle"), ts.all());
   EXPECT_EQ(a.positive.num_revolutions, 3u);
   EXPECT_EQ(s["slider_acceleration"]["peak_negative"].get<double>(), a.peak_negative);
-  EXPECT_EQ(s["slider_acceleration"]["per_revolution_positive"]["p95"].get<double>(), a.positive.p95);
-  EXPECT_EQ(s["slider_acceleration"]["per_revolution_abs"]["median"].get<double>(), a.magnitude.median);
+  EXPECT_EQ(s["slider_acceleration"]["per_revolution_positive"]["p95"].get<double>(),
+            a.positive.p95);
+  EXPECT_EQ(s["slider_acceleration"]["per_revolution_abs"]["median"].get<double>(),
+            a.magnitude.median);
   // The clearance joint's bearing force is |F| of the contact: √(Fn² + Ft²).
   const auto fn = ts.values("contact_normal_force"), ft = ts.values("contact_friction_force");
   const auto f = ts.values("bearing_force");
@@ -367,9 +403,9 @@ TEST(RunRobustness, LooseToleranceRunsPastContactSeparations) {
   // pivot at every step size (IDA_CONV_FAIL at h = 2e-12). A fresh factorisation after such a
   // failure fixes it (multibody/ida_integrator.cc, TimedSetup).
   for (const char* tol : {"sim.rel_tol=1e-5", "sim.rel_tol=1e-4"}) {
-    const RunResult r = RunSimulation(Preset(
-        "rigid-rig", {"joint.clearance=1 mm", "drive.speed=177 rpm", "sim.settle=0 s", "sim.capture=0.3 s",
-                      "sim.sample_rate=10 kHz", tol}));
+    const RunResult r = RunSimulation(
+        Preset("rigid-rig", {"joint.clearance=1 mm", "drive.speed=177 rpm", "sim.settle=0 s",
+                             "sim.capture=0.3 s", "sim.sample_rate=10 kHz", tol}));
     EXPECT_TRUE(r.ok()) << tol << ": " << r.status.Summary();
     EXPECT_EQ(r.status.linear_solver, multibody::LinearSolverKind::kKlu);
     EXPECT_GT(r.status.stats.roots_found, 4) << tol;  // several onsets and separations
@@ -414,19 +450,21 @@ TEST(RunRobustness, AnEnergyBalanceErrorAboveOnePercentIsWarnedAbout) {
     EXPECT_EQ(r.summary["energy"]["relative_balance_error"].get<double>() > 1e-2, loose) << tol;
     ASSERT_EQ(r.summary.contains("warnings"), loose) << tol;
     if (loose) {
-      EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("tighten sim.rel_tol"), std::string::npos);
+      EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("tighten sim.rel_tol"),
+                std::string::npos);
     }
   }
 }
 
 TEST(RunRobustness, APenetrationOfATenthOfTheClearanceIsWarnedAbout) {
   // A linear spring of 1e3 N/m cannot carry the joint load within the clearance.
-  const RunResult r = RunSimulation(Preset(
-      "rigid-rig", {"joint.law=linear-spring", "joint.stiffness=1e3", "sim.settle=0 s", "sim.capture=0.1 s",
-                    "sim.sample_rate=10 kHz"}));
+  const RunResult r = RunSimulation(
+      Preset("rigid-rig", {"joint.law=linear-spring", "joint.stiffness=1e3", "sim.settle=0 s",
+                           "sim.capture=0.1 s", "sim.sample_rate=10 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   ASSERT_TRUE(r.summary.contains("warnings"));
-  EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("% of joint.clearance"), std::string::npos);
+  EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("% of joint.clearance"),
+            std::string::npos);
 }
 
 TEST(ImpactLog, ARigidRigRunLogsEveryLocatedContactAndAgreesWithItsChannels) {
@@ -435,9 +473,9 @@ TEST(ImpactLog, ARigidRigRunLogsEveryLocatedContactAndAgreesWithItsChannels) {
   // so (1) its impacts account for every contact root IDA returned, (2) each impact's peak force
   // is at least every sample's force inside it, (3) its dissipated energy is the time integral
   // of the contact_dissipation channel (sampled at 100 kHz; the log's points are finer).
-  const RunResult r = RunSimulation(Preset(
-      "rigid-rig", {"joint.clearance=1 mm", "joint.friction=0.18", "drive.speed=177 rpm", "sim.settle=0 s",
-                    "sim.capture=0.339 s"}));
+  const RunResult r = RunSimulation(
+      Preset("rigid-rig", {"joint.clearance=1 mm", "joint.friction=0.18", "drive.speed=177 rpm",
+                           "sim.settle=0 s", "sim.capture=0.339 s"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const std::vector<study::Impact>& log = r.impacts;
   ASSERT_GE(log.size(), 3u);
@@ -445,20 +483,25 @@ TEST(ImpactLog, ARigidRigRunLogsEveryLocatedContactAndAgreesWithItsChannels) {
   for (const study::Impact& im : log) located += (im.complete ? 2 : 1);
   const long index_roots = static_cast<long>(r.status.index_crossings.size());
   EXPECT_LE(located, r.status.stats.roots_found - index_roots);
-  EXPECT_GE(located, r.status.stats.roots_found - index_roots - 2);  // at most one event outside on each side
+  EXPECT_GE(located, r.status.stats.roots_found - index_roots -
+                         2);  // at most one event outside on each side
 
   const study::TimeSeries& ts = r.channels;
   const auto f = ts.values("contact_normal_force");
   const auto p = ts.values("contact_dissipation");
   double channel_energy = 0.0;
-  for (size_t i = 1; i < p.size(); ++i) channel_energy += 0.5 * (p[i - 1] + p[i]) * ts.sample_period();
+  for (size_t i = 1; i < p.size(); ++i)
+    channel_energy += 0.5 * (p[i - 1] + p[i]) * ts.sample_period();
   double log_energy = 0.0;
   for (const study::Impact& im : log) {
     log_energy += im.dissipated_energy;
     EXPECT_GE(im.duration, 0.0);
     const size_t a = static_cast<size_t>(std::ceil((im.time - ts.start_time()) * ts.sample_rate()));
-    const size_t b = std::min(f.size(), static_cast<size_t>((im.time + im.duration - ts.start_time()) * ts.sample_rate()) + 1);
-    for (size_t i = a; i < b; ++i) EXPECT_LE(f[i], im.peak_force) << "impact at " << im.time << " s, sample " << i;
+    const size_t b = std::min(
+        f.size(),
+        static_cast<size_t>((im.time + im.duration - ts.start_time()) * ts.sample_rate()) + 1);
+    for (size_t i = a; i < b; ++i)
+      EXPECT_LE(f[i], im.peak_force) << "impact at " << im.time << " s, sample " << i;
   }
   EXPECT_NEAR(log_energy, channel_energy, 2e-3 * channel_energy);  // observed 2.5e-4
   std::printf("impacts %zu, contact roots %ld, energy log %.6g J, channel %.6g J\n", log.size(),

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "study/mechanism_damping.h"
+
+#include "common/error.h"
+#include "multibody/mechanism_modes.h"
+
+namespace flexrod {
+
+bool DampingRefersToMechanism(const Config& cfg) {
+  if (cfg.Text("rod.type") != "flexible") return false;
+  const std::string type = cfg.Text("damping.type");
+  if (type == "band") return true;
+  if (type != "ratio") return false;
+  const double zeta = cfg.Quantity("damping.ratio");
+  RequireNonNegative("damping.ratio", zeta);
+  return zeta > 0.0;
+}
+
+std::vector<int> HeldForMechanismModes(const MechanismModel& model) {
+  const multibody::Mechanism& m = model.mechanism;
+  if (model.is_pendulum) return {m.coordinate(model.conrod, multibody::kTheta)};
+  return {m.coordinate(model.crank, multibody::kTheta)};
+}
+
+MechanismDamping ReferDampingToMechanism(const Config& cfg, const MechanismModel& undamped) {
+  const multibody::Mechanism& m = undamped.mechanism;
+  const multibody::MechanismModes modes =
+      multibody::CalcMechanismModes(m, undamped.p0, HeldForMechanismModes(undamped));
+  const int count = modes.num_modes();
+  MechanismDamping out;
+  out.frequencies_hz = modes.frequencies_hz;
+  out.ratios = Vec::Zero(count);
+  if (cfg.Text("damping.type") == "band") {
+    const multibody::DampingSpec band = multibody::DampingSpec::FrequencyBand();
+    for (int i = 0; i < count; ++i) {
+      const double f = modes.frequencies_hz(i);
+      out.ratios(i) = f < band.band_low_limit_hz    ? band.band_low_ratio
+                      : f < band.band_high_limit_hz ? band.band_mid_ratio
+                                                    : band.band_high_ratio;
+    }
+  } else {
+    const double zeta = cfg.Quantity("damping.ratio");
+    RequireNonNegative("damping.ratio", zeta);
+    out.ratios.setConstant(zeta);
+  }
+  out.spec = multibody::DampingSpec::Matrix(
+      multibody::ModalDampingForBody(m, modes, undamped.conrod, out.ratios));
+  return out;
+}
+
+}  // namespace flexrod
