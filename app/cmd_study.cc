@@ -4,7 +4,6 @@
 // 1.0 mm × joint friction 0.2, 0.4, 0.6). Each writes a Markdown and a CSV table, and the runs'
 // channels for the plots, into --out.
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,15 +18,18 @@
 #include "contact/normal_law.h"
 #include "study/presets.h"
 #include "study/run.h"
+#include "study/slider_crank.h"
 
 namespace flexrod::app {
 namespace {
 
 struct StudyOptions {
   std::string name;
+  std::string input{"flexible-rig"};  ///< reduction: the case (preset or TOML file)
   std::string out_dir{"out/study"};
   std::vector<std::string> sets;
   bool no_plot{false};
+  double within{2.0};  ///< reduction: the agreement asked of a Craig–Bampton basis [%]
 };
 
 std::string Num(const nlohmann::json& j) {
@@ -38,7 +40,8 @@ std::string Num(const nlohmann::json& j) {
   return os.str();
 }
 
-void WriteTables(const std::string& dir, const std::string& title, const std::vector<std::string>& header,
+void WriteTables(const std::string& dir, const std::string& title,
+                 const std::vector<std::string>& header,
                  const std::vector<std::vector<std::string>>& rows) {
   std::ostringstream md, csv;
   md << "# " << title << "\n\n|";
@@ -74,7 +77,8 @@ const std::vector<std::string> kStudyTolerances = {"sim.rel_tol=1e-8", "sim.abs_
 
 /// One case of a study: the rigid-rig preset with the given overrides, written to dir/<tag>.
 std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag,
-                                 const std::vector<std::string>& sets, TwinCache* twins, TwinCsvs* twin_csvs) {
+                                 const std::vector<std::string>& sets, TwinCache* twins,
+                                 TwinCsvs* twin_csvs) {
   Config cfg;
   cfg.LoadToml(FindPreset("rigid-rig")->toml, "rigid-rig");
   for (const std::string& s : kStudyTolerances) cfg.SetAssignment(s);
@@ -82,13 +86,15 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
   for (const std::string& s : opt.sets) cfg.SetAssignment(s);
   const auto t0 = std::chrono::steady_clock::now();
   RunOutputOptions outputs;
-  outputs.twins = twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
+  outputs.twins =
+      twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
   const RunResult r = RunSimulation(cfg, nullptr, false, outputs);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string dir = opt.out_dir + "/" + tag;
   const auto shared = r.ideal ? twin_csvs->find(r.ideal.get()) : twin_csvs->end();
   WriteRunFiles(dir, cfg, r, shared == twin_csvs->end() ? "" : shared->second);
-  if (r.ideal && shared == twin_csvs->end()) (*twin_csvs)[r.ideal.get()] = dir + "/ideal/channels.csv";
+  if (r.ideal && shared == twin_csvs->end())
+    (*twin_csvs)[r.ideal.get()] = dir + "/ideal/channels.csv";
   if (!opt.no_plot) PlotRun(opt.out_dir + "/" + tag);  // slider acceleration against the ideal twin
   const auto& s = r.summary;
   auto get = [&](const char* a, const char* b) {
@@ -100,16 +106,181 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
     peak = Num(std::max(a["peak_positive"].get<double>(), a["peak_negative"].get<double>()));
     median = Num(a["per_revolution_abs"]["median"]);
   }
-  return {multibody::ToString(r.status.outcome), peak, median, get("load_amplification", "slider_acceleration_positive"),
-          get("load_amplification", "slider_acceleration_negative"), get("impacts", "per_revolution"),
-          get("load_amplification", "bearing_force_peak_real [N]"), Num(wall)};
+  return {multibody::ToString(r.status.outcome),
+          peak,
+          median,
+          get("load_amplification", "slider_acceleration_positive"),
+          get("load_amplification", "slider_acceleration_negative"),
+          get("impacts", "per_revolution"),
+          get("load_amplification", "bearing_force_peak_real [N]"),
+          Num(wall)};
+}
+
+// ---- the modal reduction study --------------------------------------------------------------
+// One case, the rod as the exact body (the reference), the full FE model, Craig–Bampton with
+// k = 0, 1, 2, 4, 8, 16 fixed-interface modes and the other bases at 8 modes; per variant the
+// headline figures and their difference to the exact rod.
+
+struct ReductionVariant {
+  std::string name;
+  std::vector<std::string> sets;
+  int modes{-1};  ///< Craig–Bampton fixed-interface modes, −1 for the others
+};
+
+std::vector<ReductionVariant> ReductionVariants() {
+  std::vector<ReductionVariant> v = {{"exact", {"rod.type=exact"}, -1},
+                                     {"full", {"rod.type=flexible", "reduction.method=full"}, -1}};
+  for (int k : {0, 1, 2, 4, 8, 16}) {
+    v.push_back({"cb-" + std::to_string(k),
+                 {"rod.type=flexible", "reduction.method=craig-bampton",
+                  "reduction.modes=" + std::to_string(k)},
+                 k});
+  }
+  v.push_back({"orthonormal-cb-8",
+               {"rod.type=flexible", "reduction.method=orthonormal-cb", "reduction.modes=8"},
+               -1});
+  v.push_back({"free-free-8",
+               {"rod.type=flexible", "reduction.method=free-free", "reduction.modes=8"},
+               -1});
+  return v;
+}
+
+/// The figures a variant is judged by (NaN where the case has none, e.g. no clearance joint).
+struct ReductionFigures {
+  static constexpr int kCount = 7;
+  static const char* Name(int i) {
+    static const char* names[kCount] = {"peak |slider acc.| [m/s^2]",
+                                        "p95 per-rev. peak |slider acc.| [m/s^2]",
+                                        "amplification + (p95)",
+                                        "amplification - (p95)",
+                                        "peak bearing force [N]",
+                                        "peak gauge strain [1]",
+                                        "first impact [s]"};
+    return names[i];
+  }
+  double value[kCount];
+};
+
+ReductionFigures FiguresOf(const RunResult& r) {
+  const nlohmann::json& s = r.summary;
+  auto at = [&](std::initializer_list<const char*> path) -> double {
+    const nlohmann::json* j = &s;
+    for (const char* k : path) {
+      if (!j->contains(k) || (*j)[k].is_null()) return NAN;
+      j = &(*j)[k];
+    }
+    return j->get<double>();
+  };
+  ReductionFigures f;
+  f.value[0] = std::max(at({"slider_acceleration", "peak_positive"}),
+                        at({"slider_acceleration", "peak_negative"}));
+  f.value[1] = at({"slider_acceleration", "per_revolution_abs", "p95"});
+  f.value[2] = at({"load_amplification", "slider_acceleration_positive_p95"});
+  f.value[3] = at({"load_amplification", "slider_acceleration_negative_p95"});
+  f.value[4] = at({"channels", "bearing_force", "peak_abs"});
+  double strain = NAN;
+  if (s.contains("channels")) {
+    for (const auto& [name, c] : s["channels"].items()) {
+      if (name.rfind("strain_", 0) == 0)
+        strain = std::isnan(strain) ? c["peak_abs"].get<double>()
+                                    : std::max(strain, c["peak_abs"].get<double>());
+    }
+  }
+  f.value[5] = strain;
+  f.value[6] = r.impacts.empty() ? NAN : r.impacts.front().time;
+  return f;
+}
+
+int RunReductionStudy(const StudyOptions& opt) {
+  Require(opt.within > 0.0, "--within", opt.within, "must be > 0 [%]");
+  Config base;
+  if (const Preset* preset = FindPreset(opt.input)) {
+    base.LoadToml(preset->toml, opt.input);
+  } else {
+    base.LoadTomlFile(opt.input);
+  }
+  for (const std::string& s : opt.sets) base.SetAssignment(s);
+  const std::vector<ReductionVariant> variants = ReductionVariants();
+  std::vector<Config> configs;
+  for (const ReductionVariant& v : variants) {  // every variant's input checked before any run
+    Config cfg = base;
+    for (const std::string& s : v.sets) cfg.SetAssignment(s);
+    cfg.Resolve();
+    BuildMechanism(cfg, nullptr);  // rod, joint, drive and damping keys: InputError before any run
+    configs.push_back(cfg);
+  }
+  EnsureDirectory("--out", opt.out_dir);
+  std::vector<ReductionFigures> figures;
+  std::vector<double> walls;
+  std::vector<std::string> outcomes;
+  for (size_t i = 0; i < variants.size(); ++i) {
+    std::fprintf(stderr, "study reduction: %s\n", variants[i].name.c_str());
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunResult r = RunSimulation(configs[i], nullptr, false, RunOutputOptions{});
+    walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    outcomes.push_back(multibody::ToString(r.status.outcome));
+    figures.push_back(FiguresOf(r));
+    // Each variant's summary and input (its channels would be 0.5 GB a variant on the rig).
+    const std::string dir = opt.out_dir + "/" + variants[i].name;
+    EnsureDirectory("--out", dir);
+    WriteFileAtomic(dir + "/resolved.toml", configs[i].ResolvedToml({}));
+    WriteFileAtomic(dir + "/summary.json", r.summary.dump(2) + "\n");
+  }
+  // Differences to the exact rod, and the smallest Craig–Bampton k within opt.within on all.
+  const ReductionFigures& ref = figures.front();
+  std::vector<std::string> header = {"variant", "outcome"};
+  for (int c = 0; c < ReductionFigures::kCount; ++c) {
+    header.push_back(ReductionFigures::Name(c));
+    header.push_back(std::string("diff. to exact [%]"));
+  }
+  header.push_back("max |diff.| [%]");
+  header.push_back("wall [s]");
+  std::vector<std::vector<std::string>> rows;
+  int smallest_k = -1;
+  for (size_t i = 0; i < variants.size(); ++i) {
+    std::vector<std::string> row = {variants[i].name, outcomes[i]};
+    double worst = 0.0;
+    for (int c = 0; c < ReductionFigures::kCount; ++c) {
+      const double v = figures[i].value[c], e = ref.value[c];
+      const double diff =
+          std::isfinite(v) && std::isfinite(e) && e != 0.0 ? 100.0 * (v - e) / std::abs(e) : NAN;
+      if (std::isfinite(diff)) worst = std::max(worst, std::abs(diff));
+      row.push_back(Num(nlohmann::json(v)));
+      row.push_back(Num(nlohmann::json(diff)));
+    }
+    row.push_back(Num(nlohmann::json(worst)));
+    row.push_back(Num(nlohmann::json(walls[i])));
+    if (variants[i].modes >= 0) {  // the smallest k from which every larger k stays within
+      const bool within = worst <= opt.within && outcomes[i] == "completed";
+      if (!within) smallest_k = -1;
+      if (within && smallest_k < 0) smallest_k = variants[i].modes;
+    }
+    rows.push_back(row);
+  }
+  WriteTables(opt.out_dir, "Modal reduction study: " + opt.input + " (reference: the exact rod)",
+              header, rows);
+  std::ostringstream verdict;
+  verdict << "smallest Craig-Bampton k from which every larger k is within " << opt.within
+          << " % of the exact rod on every figure: "
+          << (smallest_k >= 0 ? std::to_string(smallest_k)
+                              : std::string("none of 0, 1, 2, 4, 8, 16"))
+          << "\n";
+  std::fputs(verdict.str().c_str(), stdout);
+  WriteFileAtomic(opt.out_dir + "/verdict.txt", verdict.str());
+  if (!opt.no_plot) RunPlotScript({"reduction", opt.out_dir});
+  return 0;
 }
 
 int RunStudy(const StudyOptions& opt) {
+  if (opt.name == "reduction") return RunReductionStudy(opt);
   EnsureDirectory("--out", opt.out_dir);
-  const std::vector<std::string> cols = {"outcome", "peak abs slider acc. [m/s^2]",
-                                         "median per-rev. peak abs slider acc. [m/s^2]", "amplification +",
-                                         "amplification -", "impacts per rev.", "peak bearing force [N]",
+  const std::vector<std::string> cols = {"outcome",
+                                         "peak abs slider acc. [m/s^2]",
+                                         "median per-rev. peak abs slider acc. [m/s^2]",
+                                         "amplification +",
+                                         "amplification -",
+                                         "impacts per rev.",
+                                         "peak bearing force [N]",
                                          "wall [s]"};
   std::vector<std::vector<std::string>> rows;
   TwinCache twins;
@@ -120,8 +291,9 @@ int RunStudy(const StudyOptions& opt) {
         const std::string tag = law + "-" + rpm + "rpm";
         std::fprintf(stderr, "study: %s\n", tag.c_str());
         std::vector<std::string> row = {law, rpm};
-        const auto res = RunCase(opt, tag, {"joint.type=clearance", "joint.clearance=1 mm", "joint.law=" + law,
-                                            "drive.speed=" + std::string(rpm) + " rpm"},
+        const auto res = RunCase(opt, tag,
+                                 {"joint.type=clearance", "joint.clearance=1 mm",
+                                  "joint.law=" + law, "drive.speed=" + std::string(rpm) + " rpm"},
                                  &twins, &twin_csvs);
         row.insert(row.end(), res.begin(), res.end());
         rows.push_back(row);
@@ -129,23 +301,27 @@ int RunStudy(const StudyOptions& opt) {
     }
     std::vector<std::string> header = {"law", "speed [rpm]"};
     header.insert(header.end(), cols.begin(), cols.end());
-    WriteTables(opt.out_dir, "Rigid rig, 1 mm clearance: every normal law (thesis section 3.3)", header, rows);
+    WriteTables(opt.out_dir, "Rigid rig, 1 mm clearance: every normal law (thesis section 3.3)",
+                header, rows);
   } else {
     for (const char* c : {"0.5", "1.0"}) {
       for (const char* mu : {"0.2", "0.4", "0.6"}) {
         const std::string tag = std::string("c") + c + "mm-mu" + mu;
         std::fprintf(stderr, "study: %s\n", tag.c_str());
         std::vector<std::string> row = {c, mu};
-        const auto res = RunCase(opt, tag, {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
-                                            std::string("joint.friction=") + mu},
-                                 &twins, &twin_csvs);
+        const auto res =
+            RunCase(opt, tag,
+                    {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
+                     std::string("joint.friction=") + mu},
+                    &twins, &twin_csvs);
         row.insert(row.end(), res.begin(), res.end());
         rows.push_back(row);
       }
     }
     std::vector<std::string> header = {"clearance [mm]", "friction [-]"};
     header.insert(header.end(), cols.begin(), cols.end());
-    WriteTables(opt.out_dir, "Rigid rig: clearance x joint friction (thesis section 3.4, Fig. 39)", header, rows);
+    WriteTables(opt.out_dir, "Rigid rig: clearance x joint friction (thesis section 3.4, Fig. 39)",
+                header, rows);
   }
   if (!opt.no_plot) RunPlotScript({"study", opt.out_dir});
   return 0;
@@ -155,12 +331,19 @@ int RunStudy(const StudyOptions& opt) {
 
 void RegisterStudy(CLI::App& app, Handler* handler) {
   auto opt = std::make_shared<StudyOptions>();
-  CLI::App* cmd = app.add_subcommand("study", "the rigid-rig studies of the thesis (chapter 3)");
-  cmd->add_option("name", opt->name, "rigid-rig-laws | rigid-rig-friction")
+  CLI::App* cmd = app.add_subcommand(
+      "study", "the rigid-rig studies of the thesis (chapter 3) and the modal reduction study");
+  cmd->add_option("name", opt->name, "rigid-rig-laws | rigid-rig-friction | reduction")
       ->required()
-      ->check(CLI::IsMember({"rigid-rig-laws", "rigid-rig-friction"}));
+      ->check(CLI::IsMember({"rigid-rig-laws", "rigid-rig-friction", "reduction"}));
+  cmd->add_option("input", opt->input, "reduction: the case, a preset or a TOML file")
+      ->capture_default_str();
+  cmd->add_option("--within", opt->within,
+                  "reduction: the agreement with the exact rod asked of a Craig-Bampton basis [%]")
+      ->capture_default_str();
   cmd->add_option("--out", opt->out_dir, "output directory")->capture_default_str();
-  cmd->add_option("--set", opt->sets, "override a key of every run, e.g. --set sim.capture=\"1 s\"")->take_all();
+  cmd->add_option("--set", opt->sets, "override a key of every run, e.g. --set sim.capture=\"1 s\"")
+      ->take_all();
   cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plots");
   cmd->callback([opt, handler] { *handler = [opt] { return RunStudy(*opt); }; });
 }

@@ -273,6 +273,37 @@ def plot_study(directory):
     save(fig, os.path.join(directory, "peaks.png"))
 
 
+def plot_reduction(directory):
+    """Convergence of the modal reduction study (DIR/table.csv): |difference to the exact rod| of
+    every figure against the Craig-Bampton mode count k, with the full FE model as a line."""
+    with open(os.path.join(directory, "table.csv"), newline="") as f:
+        rows = list(csv.reader(f))
+    header, rows = rows[0], rows[1:]
+    figures = [header[i] for i in range(2, len(header) - 2, 2)]
+    cb = [r for r in rows if r[0].startswith("cb-")]
+    ks = [int(r[0][3:]) for r in cb]
+
+    def diff(row, fig):
+        v = row[header.index(fig) + 1]
+        return abs(float(v)) if v not in ("n/a", "") else float("nan")
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for i, name in enumerate(figures):
+        ys = [max(diff(r, name), 1e-4) for r in cb]
+        ax.plot(ks, ys, "o-", color="C%d" % i, label=name)
+        full = [r for r in rows if r[0] == "full"]
+        if full and not math.isnan(diff(full[0], name)):
+            ax.axhline(max(diff(full[0], name), 1e-4), color="C%d" % i, ls=":", lw=0.8)
+    ax.set_xscale("symlog", linthresh=1)
+    ax.set_yscale("log")
+    ax.set_xlabel("Craig-Bampton fixed-interface modes k")
+    ax.set_ylabel("|difference to the exact rod| [%] (dotted: full FE)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    save(fig, os.path.join(directory, "convergence.png"))
+
+
 def main(argv):
     if len(argv) < 3:
         print(__doc__, file=sys.stderr)
@@ -282,6 +313,9 @@ def main(argv):
         return 0
     if argv[1] == "study":
         plot_study(argv[2])
+        return 0
+    if argv[1] == "reduction":
+        plot_reduction(argv[2])
         return 0
     if argv[1] == "sweep" and len(argv) >= 4:
         plot_sweep(argv[2], argv[3])
