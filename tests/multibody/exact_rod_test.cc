@@ -22,17 +22,7 @@ namespace {
 using testing::SliderCrankExact;
 using testing::SliderCrankParams;
 
-fem::RodSpec SteelRod(double length, int elements, double stiffness_factor = 1.0) {
-  fem::RodSpec rod;
-  rod.material = fem::MaterialByName("steel");
-  rod.material.youngs_modulus *= stiffness_factor;
-  rod.section.thickness = 6.35e-3;
-  rod.section.height = 19.05e-3;
-  rod.section.in_plane = fem::BendingAxis::kWeak;
-  rod.length = length;
-  rod.num_elements = elements;
-  return rod;
-}
+using testing::SteelRodSpec;
 
 ElementOutput Outputs(const ReissnerBeamElement& el, const MarkerKinematics& a,
                       const MarkerKinematics& b) {
@@ -67,7 +57,7 @@ double& Kappa(MarkerKinematics* k, int c) {
 // ∂o/∂κ of the Reissner element (forces, moments and dissipation) equals central differences
 // at random, large-rotation, moving states (relative 1e-6 of each row's largest entry).
 TEST(ExactRod, ElementJacobianIsTheDerivativeOfItsOutputs) {
-  const fem::RodSpec rod = SteelRod(0.2, 10);
+  const fem::RodSpec rod = SteelRodSpec(0.2, 10);
   const ReissnerBeamElement el(fem::ReissnerStiffnessOf(rod.material, rod.section),
                                rod.element_length(), 3e-5);
   std::mt19937 gen(7);
@@ -115,7 +105,7 @@ ExactPendulum BuildExactPendulum(int elements, double beta) {
   MechanismBuilder b;
   ExactRodSpec spec;
   spec.name = "rod";
-  spec.rod = SteelRod(0.2, elements);
+  spec.rod = SteelRodSpec(0.2, elements);
   spec.rod.attachments.push_back({"tip", elements, 0.05, 1e-6, Vec2(0.01, 0.005)});
   spec.beta = beta;
   ExactPendulum p;
@@ -171,7 +161,7 @@ TEST(ExactRod, FreeSpinningRodConservesEnergy) {
   MechanismBuilder b;
   ExactRodSpec spec;
   spec.name = "rod";
-  spec.rod = SteelRod(0.2, 4);
+  spec.rod = SteelRodSpec(0.2, 4);
   const ExactRod rod = AddExactRod(&b, spec);
   const Mechanism m = b.Build();
   RunData data(m);
@@ -231,7 +221,7 @@ TEST(ExactRod, VeryStiffExactRodReproducesTheRigidSliderCrank) {
       b.AddRigidBody({"crank", P.m_crank, P.m_crank * P.r * P.r / 12.0, Vec2(0.5 * P.r, 0.0)});
   ExactRodSpec spec;
   spec.name = "rod";
-  spec.rod = SteelRod(P.l, 8, 1e2);
+  spec.rod = SteelRodSpec(P.l, 8, 1e2);
   spec.beta = 1e-5;  // ζ ≈ 0.1 on the first bending mode (22 800 rad/s)
   const ExactRod rod = AddExactRod(&b, spec);
   const BodyId slider = b.AddRigidBody({"slider", P.m_slider, 1e-4, Vec2(0.0, 0.0)});

@@ -131,11 +131,8 @@ inline InitialConditionSpec SliderCrankGuess(const SliderCrankModel& m, const Sl
   return ic;
 }
 
-/// A steel rod reduced with fem::Reduce (Craig–Bampton, frame on node 0, interface the last
-/// node): thickness × height = 6.35 × 19.05 mm, in-plane weak axis, length l.
-inline std::shared_ptr<const fem::ReducedRod> MakeSteelRod(
-    double length, int elements, int modes, double stiffness_factor = 1.0,
-    fem::ReductionMethod method = fem::ReductionMethod::kCraigBampton) {
+/// A steel rod spec: thickness × height = 6.35 × 19.05 mm, in-plane weak axis, length l.
+inline fem::RodSpec SteelRodSpec(double length, int elements, double stiffness_factor = 1.0) {
   fem::RodSpec rod;
   rod.material = fem::MaterialByName("steel");
   rod.material.youngs_modulus *= stiffness_factor;
@@ -144,6 +141,15 @@ inline std::shared_ptr<const fem::ReducedRod> MakeSteelRod(
   rod.section.in_plane = fem::BendingAxis::kWeak;
   rod.length = length;
   rod.num_elements = elements;
+  return rod;
+}
+
+/// SteelRodSpec reduced with fem::Reduce (Craig–Bampton, frame on node 0, interface the last
+/// node).
+inline std::shared_ptr<const fem::ReducedRod> MakeSteelRod(
+    double length, int elements, int modes, double stiffness_factor = 1.0,
+    fem::ReductionMethod method = fem::ReductionMethod::kCraigBampton) {
+  const fem::RodSpec rod = SteelRodSpec(length, elements, stiffness_factor);
   const fem::ReductionSpec spec = fem::MechanismReduction(rod, method, modes);
   return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
 }
