@@ -45,7 +45,9 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   s->c = b.Ibar;
   s->c.noalias() += b.Stilde * q;
   s->Kq.noalias() = b.K * q;
-  if (b.geometric_stiffening) {
+  s->Fg.setZero();
+  // Output samples (dynamics false) need ½ qᵀKq only, not F_g.
+  if (b.geometric_stiffening && dynamics) {
     // F_g = Σ_e Φ_eᵀ N_e K_G Φ_e q (FlexibleBodySpec::geometric_stiffening).
     s->element_dofs.noalias() = b.element_rows * q;
     s->element_force.noalias() = b.element_axial_force * q;
