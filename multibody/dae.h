@@ -13,10 +13,11 @@
 //   F5 = ż − f(t, p, v, z)                 (nz)  element states and energy quadratures
 // with Q = Q_v + Q_e + Q_gravity + Q_elements + Q_motor (ffrf-planar.md).
 //
-// Jacobian dF/dy + c_j dF/dẏ: analytic for everything except the force elements. Analytic
+// Jacobian dF/dy + c_j dF/dẏ: analytic for everything except force elements without an
+// analytic ForceElement::EvaluateJacobian (the exact rod's beam elements have one). Analytic
 // blocks: identities, c_j M, the velocity and position derivatives of M v̇ − Q_v − Q_e −
 // Q_gravity (closed form from the shape integrals), G, Gᵀ, and the constraint Hessian terms
-// ∂(Gᵀλ)/∂p, ∂(Gᵀμ)/∂p, ∂(G v)/∂p. Force elements: central finite differences of the
+// ∂(Gᵀλ)/∂p, ∂(Gᵀμ)/∂p, ∂(G v)/∂p. Other force elements: central finite differences of the
 // element outputs with respect to its kinematic inputs κ = (p_WM, v_WM, φ, ω) of both
 // markers and its states z, with step h = cbrt(ε)·scale (ε = 2.2e-16, scale from
 // ForceElement::fd_scales()/StateScale(); the realised step (x + h) − x is used), chained
@@ -59,15 +60,14 @@ void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId jo
 // ---- DAE ------------------------------------------------------------------------------------
 /// Residual F(t, y, ẏ) (size model.size()). Returns 0, or 1 if an element reported a
 /// recoverable failure or the result is not finite. Does not allocate.
-int CalcResidual(const Mechanism& model, RunData* data, double t, const double* y,
-                 const double* yp, double* r);
+int CalcResidual(const Mechanism& model, RunData* data, double t, const double* y, const double* yp,
+                 double* r);
 /// Adds dF/dy + cj·dF/dẏ to the column-major matrix jac (leading dimension ld >= N), which
 /// the caller has zeroed. Returns 0 or 1 (recoverable).
 int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, const double* y,
                 const double* yp, double* jac, int ld);
 /// Element root functions g (model.num_element_roots()). Returns 0.
-int CalcElementRoots(const Mechanism& model, RunData* data, double t, const double* y,
-                     double* g);
+int CalcElementRoots(const Mechanism& model, RunData* data, double t, const double* y, double* g);
 
 /// Convenience (allocating) forms for tests and tools.
 Vec CalcResidual(const Mechanism& model, RunData* data, double t, const Vec& y, const Vec& yp);
@@ -93,12 +93,12 @@ SparsityPattern JacobianPattern(const Mechanism& model);
 /// Position constraints g(p, t) (nc).
 void CalcConstraints(const Mechanism& model, RunData* data, double t, const Vec& p, Vec* g);
 /// Constraint Jacobian G = ∂g/∂p (nc × np) and g_t = ∂g/∂t (nc).
-void CalcConstraintJacobian(const Mechanism& model, RunData* data, double t, const Vec& p,
-                            Mat* G, Vec* g_t);
+void CalcConstraintJacobian(const Mechanism& model, RunData* data, double t, const Vec& p, Mat* G,
+                            Vec* g_t);
 /// Acceleration right-hand side γ with G v̇ = γ on the constraint manifold:
 /// γ = −(∂(G v)/∂p) v − g_tt.
-void CalcConstraintAccelerationRhs(const Mechanism& model, RunData* data, double t,
-                                   const Vec& p, const Vec& v, Vec* gamma);
+void CalcConstraintAccelerationRhs(const Mechanism& model, RunData* data, double t, const Vec& p,
+                                   const Vec& v, Vec* gamma);
 /// Full mass matrix M(p) (np × np, block diagonal over bodies).
 void CalcMassMatrix(const Mechanism& model, RunData* data, const Vec& p, Mat* M);
 
