@@ -435,10 +435,7 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
           zeta(i) = spec.damping.modal_ratios.size() == 1 ? spec.damping.modal_ratios[0]
                                                           : spec.damping.modal_ratios[i];
         } else {
-          const double f = b.modal_frequencies_hz(i);
-          zeta(i) = f < spec.damping.band_low_limit_hz    ? spec.damping.band_low_ratio
-                    : f < spec.damping.band_high_limit_hz ? spec.damping.band_mid_ratio
-                                                          : spec.damping.band_high_ratio;
+          zeta(i) = spec.damping.BandRatio(b.modal_frequencies_hz(i));
         }
       }
       b.modal_damping_ratios = zeta;

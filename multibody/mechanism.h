@@ -85,6 +85,12 @@ struct DampingSpec {
   static DampingSpec None() { return {}; }
   static DampingSpec ModalRatio(std::vector<double> ratios);
   static DampingSpec FrequencyBand();
+  /// The band ratio ζ [-] for a mode of frequency f_hz [Hz] (the band_* fields).
+  double BandRatio(double f_hz) const {
+    return f_hz < band_low_limit_hz    ? band_low_ratio
+           : f_hz < band_high_limit_hz ? band_mid_ratio
+                                       : band_high_ratio;
+  }
   static DampingSpec Rayleigh(double alpha, double beta);
   static DampingSpec Matrix(Mat d);
   /// Throws InputError naming key.<field>.

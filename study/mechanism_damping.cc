@@ -7,7 +7,7 @@
 namespace flexrod {
 
 bool DampingRefersToMechanism(const Config& cfg) {
-  if (cfg.Text("rod.type") != "flexible") return false;
+  if (cfg.Text("rod.type") == "rigid") return false;
   const std::string type = cfg.Text("damping.type");
   if (type == "band") return true;
   if (type != "ratio") return false;
@@ -22,27 +22,23 @@ std::vector<int> HeldForMechanismModes(const MechanismModel& model) {
   return {m.coordinate(model.crank, multibody::kTheta)};
 }
 
+Vec DampingRatiosFor(const Config& cfg, const Vec& frequencies_hz) {
+  if (cfg.Text("damping.type") == "band") {
+    const multibody::DampingSpec band = multibody::DampingSpec::FrequencyBand();
+    return frequencies_hz.unaryExpr([&](double f) { return band.BandRatio(f); });
+  }
+  const double zeta = cfg.Quantity("damping.ratio");
+  RequireNonNegative("damping.ratio", zeta);
+  return Vec::Constant(frequencies_hz.size(), zeta);
+}
+
 MechanismDamping ReferDampingToMechanism(const Config& cfg, const MechanismModel& undamped) {
   const multibody::Mechanism& m = undamped.mechanism;
   const multibody::MechanismModes modes =
       multibody::CalcMechanismModes(m, undamped.p0, HeldForMechanismModes(undamped));
-  const int count = modes.num_modes();
   MechanismDamping out;
   out.frequencies_hz = modes.frequencies_hz;
-  out.ratios = Vec::Zero(count);
-  if (cfg.Text("damping.type") == "band") {
-    const multibody::DampingSpec band = multibody::DampingSpec::FrequencyBand();
-    for (int i = 0; i < count; ++i) {
-      const double f = modes.frequencies_hz(i);
-      out.ratios(i) = f < band.band_low_limit_hz    ? band.band_low_ratio
-                      : f < band.band_high_limit_hz ? band.band_mid_ratio
-                                                    : band.band_high_ratio;
-    }
-  } else {
-    const double zeta = cfg.Quantity("damping.ratio");
-    RequireNonNegative("damping.ratio", zeta);
-    out.ratios.setConstant(zeta);
-  }
+  out.ratios = DampingRatiosFor(cfg, modes.frequencies_hz);
   out.spec = multibody::DampingSpec::Matrix(
       multibody::ModalDampingForBody(m, modes, undamped.conrod, out.ratios));
   return out;

@@ -30,14 +30,20 @@ struct MechanismDamping {
   Vec ratios;                   ///< ζ_i given to each of them [-]
 };
 
-/// True for a flexible (reduced) rod with damping.type = band, or ratio with damping.ratio > 0:
-/// the cases ReferDampingToMechanism handles. Throws InputError for damping.ratio < 0.
+/// True for an elastic rod (flexible or exact) with damping.type = band, or ratio with
+/// damping.ratio > 0: the cases whose ratios refer to the mechanism's modes (the reduced rod's
+/// through ReferDampingToMechanism, the exact rod's through its fitted β). Throws InputError for
+/// damping.ratio < 0.
 bool DampingRefersToMechanism(const Config& cfg);
 
 /// Coordinates held in the modal analysis: the crank's angle (the slider-crank), the rod
 /// frame's angle (the pendulum, whose rod frame sits on the pivot node: its modes are then
 /// those of the rod clamped at the pivot).
 std::vector<int> HeldForMechanismModes(const MechanismModel& model);
+
+/// The ratio ζ [-] damping.* asks of each mode of frequency frequencies_hz [Hz]: damping.ratio
+/// for every mode (type ratio), or by the frequency band (type band).
+Vec DampingRatiosFor(const Config& cfg, const Vec& frequencies_hz);
 
 /// Modes of `undamped` — the mechanism of cfg built with the rod undamped and an ideal
 /// small-end joint — at its initial configuration p0 at rest with HeldForMechanismModes held;

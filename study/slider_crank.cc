@@ -318,12 +318,7 @@ namespace {
 /// as for the reduced rod) has the requested ratio, ζ_1 = β ω_1 / 2; higher modes get more
 /// (ζ_i = β ω_i / 2), as from a Rayleigh stiffness term fitted to mode 1.
 MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
-  const std::string type = cfg.Text("damping.type");
-  const double ratio = type == "ratio" ? cfg.Quantity("damping.ratio") : 0.0;
-  RequireNonNegative("damping.ratio", ratio);
-  if (type == "rayleigh" || (type == "ratio" && ratio == 0.0)) {
-    return BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr);
-  }
+  if (!DampingRefersToMechanism(cfg)) return BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr);
   const MechanismModel undamped = BuildMechanismWithRodDamping(cfg, nullptr, /*ideal_joint=*/true,
                                                                multibody::DampingSpec::None());
   const multibody::MechanismModes modes = multibody::CalcMechanismModes(
@@ -335,11 +330,7 @@ MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
         "rod.type = exact: the mechanism has no elastic mode to refer damping.* to");
   }
   const double f1 = modes.frequencies_hz[first];
-  const multibody::DampingSpec band = multibody::DampingSpec::FrequencyBand();
-  const double zeta = type == "ratio"                ? ratio
-                      : f1 < band.band_low_limit_hz  ? band.band_low_ratio
-                      : f1 < band.band_high_limit_hz ? band.band_mid_ratio
-                                                     : band.band_high_ratio;
+  const double zeta = DampingRatiosFor(cfg, Vec::Constant(1, f1))(0);
   const double beta = 2.0 * zeta / (2.0 * std::numbers::pi * f1);
   MechanismModel out = BuildMechanismWithRodDamping(cfg, nullptr, ideal_joint,
                                                     multibody::DampingSpec::Rayleigh(0.0, beta));
