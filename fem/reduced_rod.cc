@@ -4,6 +4,7 @@
 //   modes), Φ_k the k lowest fixed-interface modes of (K_II, M_II).
 #include "fem/reduced_rod.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -385,7 +386,32 @@ StrainGaugeRows ReducedRod::Gauge(const std::string& name, double x, double y) c
   g.y = y;
   g.axial = sh.B.row(0) * phi_e;
   g.bending = -y * (sh.B.row(1) * phi_e);
+  // (P s)_e = ½ qᵀ (Σ_f P_ef Φ_fᵀ K_G Φ_f) q.
+  const Mat V = ElongationBasis();
+  const Vec Pe = V * V.row(e).transpose();
+  g.membrane = Mat::Zero(n, n);
+  for (int f = 0; f < rod.num_elements; ++f) {
+    if (Pe(f) == 0.0) continue;
+    const auto phi_f = ElementBasisRows(f);
+    g.membrane.noalias() += (0.5 * Pe(f) / le) * (phi_f.transpose() * element_Kg * phi_f);
+  }
   return g;
+}
+
+Mat ReducedRod::ElongationBasis() const {
+  FLEXROD_ASSERT(rod.dim == MeshDim::kPlanar);
+  const int ne = rod.num_elements, n = num_coordinates();
+  Mat E(ne, n);
+  for (int e = 0; e < ne; ++e) {
+    const auto dofs = PlanarElementDofs(e);
+    E.row(e) = basis.row(dofs[3]) - basis.row(dofs[0]);
+  }
+  if (n == 0) return Mat(ne, 0);
+  const Eigen::JacobiSVD<Mat> svd(E, Eigen::ComputeThinU);
+  const Vec& sv = svd.singularValues();
+  int r = 0;
+  while (r < sv.size() && sv[r] > 0.0 && sv[r] > 1e-9 * sv[0]) ++r;
+  return svd.matrixU().leftCols(r);
 }
 
 Eigen::Matrix<double, 6, Eigen::Dynamic> ReducedRod::ElementBasisRows(int e) const {
@@ -533,16 +559,9 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
   if (rod.dim == MeshDim::kPlanar) {
     out.nodes = PlanarNodeShapes(rod, basis);
     out.inertia = ComputePlanarInertia(rod, basis, out.nodes);
-    // Element axial force N_e = EA (u_b − u_a) / L_e: exact for the frame element's linear u.
     const double le = rod.element_length();
-    const double EA_over_le = rod.material.youngs_modulus * rod.section.area() / le;
-    out.element_axial_force.resize(rod.num_elements, n);
-    for (int e = 0; e < rod.num_elements; ++e) {
-      out.element_axial_force.row(e) = EA_over_le * (basis.row(3 * (e + 1)) - basis.row(3 * e));
-    }
+    out.element_axial_stiffness = rod.material.youngs_modulus * rod.section.area() / le;
     out.element_Kg = PlanarFrameGeometricStiffness(le);
-  } else {
-    out.element_axial_force.resize(0, n);
   }
   return out;
 }
@@ -704,7 +723,7 @@ void WriteReducedRod(const ReducedRod& rr, const std::string& path) {
   const std::string tmp = path + ".tmp";
   {
     h5::Node f = h5::CreateFile(tmp);
-    f.SetAttr("format", "flexrod reduced rod v2");
+    f.SetAttr("format", "flexrod reduced rod v3");
     WriteRodSpec(f, rr.rod);
     f.SetAttr("reduction.method", ToString(rr.reduction.method));
     f.SetAttr("reduction.modes", rr.reduction.num_modes, "1");
@@ -715,7 +734,7 @@ void WriteReducedRod(const ReducedRod& rr, const std::string& path) {
     f.WriteMatrix("K", rr.K, "N/m (generalised)");
     f.WriteMatrix("M", rr.M, "kg (generalised)");
     f.SetAttr("reduction.axial_load_modes", rr.reduction.axial_load_modes ? 1.0 : 0.0, "1");
-    f.WriteMatrix("element_axial_force", rr.element_axial_force, "N per unit q");
+    f.SetAttr("element_axial_stiffness", rr.element_axial_stiffness, "N/m");
     f.WriteMatrix("element_Kg", Mat(rr.element_Kg), "1/m per N of axial tension");
     f.WriteVector("frequencies", rr.frequencies_hz, "Hz");
     const h5::Node in = f.CreateGroup("inertia");
@@ -735,8 +754,8 @@ void WriteReducedRod(const ReducedRod& rr, const std::string& path) {
 
 ReducedRod ReadReducedRod(const std::string& path) {
   const h5::Node f = h5::OpenFile(path);
-  if (!f.HasAttr("format") || f.GetString("format") != "flexrod reduced rod v2") {
-    throw InputError("reduced rod file", path, "is not a flexrod reduced rod (format v2)");
+  if (!f.HasAttr("format") || f.GetString("format") != "flexrod reduced rod v3") {
+    throw InputError("reduced rod file", path, "is not a flexrod reduced rod (format v3)");
   }
   ReducedRod rr;
   rr.rod = ReadRodSpec(f);
@@ -750,7 +769,7 @@ ReducedRod ReadReducedRod(const std::string& path) {
   rr.K = f.ReadMatrix("K");
   rr.M = f.ReadMatrix("M");
   rr.reduction.axial_load_modes = f.GetDouble("reduction.axial_load_modes") != 0.0;
-  rr.element_axial_force = f.ReadMatrix("element_axial_force");
+  rr.element_axial_stiffness = f.GetDouble("element_axial_stiffness");
   rr.element_Kg = f.ReadMatrix("element_Kg");
   rr.frequencies_hz = f.ReadVector("frequencies");
   const h5::Node in = f.OpenGroup("inertia");

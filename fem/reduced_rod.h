@@ -69,6 +69,9 @@ struct StrainGaugeRows {
   double y{0.0};   ///< fibre distance from the neutral axis, in-plane [m]
   RowVec axial;    ///< u'(x) row [1]
   RowVec bending;  ///< −y κ(x) row [1]
+  /// The second-order part of the axial strain, ε = (axial + bending) q + qᵀ membrane q: the
+  /// gauge element's projected chord shortening (P s)_e / L_e (ElongationBasis) [1] (n × n).
+  Mat membrane;
 };
 
 struct ModeReportRow {
@@ -87,11 +90,16 @@ struct ReducedRod {
   Mat basis;  ///< Φ, num_dofs × n (rows of fixed dofs are zero)
   Mat K;      ///< Φᵀ K Φ, n×n
   Mat M;      ///< Φᵀ M Φ, n×n (equals inertia.Mff up to quadrature round-off)
-  /// Geometric stiffness of the distributed axial force (planar rods; empty otherwise):
-  /// element e has the axial force N_e(q) = element_axial_force.row(e) · q [N] (EA times its
-  /// own axial strain) and the geometric stiffness N_e Φ_eᵀ K_G Φ_e, with Φ_e the basis rows of
-  /// its six dofs (ElementBasisRows) and K_G = element_Kg per newton of tension [1/m].
-  Mat element_axial_force;                 ///< num_elements × n [N per unit q]
+  /// Second-order (von Kármán) axial strain of the planar rod (zero otherwise): element e with
+  /// dofs w_e = Φ_e q (its six basis rows, ElementBasisRows) has the axial force
+  /// N_e = element_axial_stiffness · (u_b − u_a + ½ w_eᵀ K_G w_e), where K_G = element_Kg per
+  /// newton of tension is ∫ N_v'ᵀ N_v' dx of the element's cubic deflection, so ½ w_eᵀ K_G w_e
+  /// = ½ ∫_e v'² dx is the shortening of the element's chord by its bending.
+  double element_axial_stiffness{0.0};  ///< E A / L_e [N/m]
+  /// V (num_elements × r): orthonormal columns spanning the elongation fields δ(q) the basis
+  /// carries (δ_e = u_b − u_a of element e), from an SVD (relative threshold 1e-9). P = V Vᵀ
+  /// projects the chord-shortening field on them (multibody::FlexibleBodySpec).
+  Mat ElongationBasis() const;
   Eigen::Matrix<double, 6, 6> element_Kg;  ///< planar frame K_G per newton of tension
   PlanarInertia inertia;
   std::vector<MarkerShape> nodes;  ///< one per FE node

@@ -24,6 +24,62 @@ using JacMap = Eigen::Map<Mat, 0, Eigen::OuterStride<>>;
 const double kFdStep = std::cbrt(std::numeric_limits<double>::epsilon());
 
 // ---- body level -------------------------------------------------------------------------------
+// The second-order axial strain (FlexibleBodySpec::geometric_stiffening): element forces
+// N_e K_G w_e + k (P s)_e d with N_e = k (δ_e + (P s)_e), s_e = ½ w_eᵀ K_G w_e, P = V Vᵀ,
+// d = (−1, 0, 0, 1, 0, 0), k = EA/L_e; F_g = Σ_e Φ_eᵀ (element force).
+void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
+  const double k = b.element_axial_stiffness;
+  const int ne = b.num_elements();
+  s->element_dofs.noalias() = b.element_rows * q;
+  for (int e = 0; e < ne; ++e) {
+    const auto w = s->element_dofs.segment<6>(6 * e);
+    auto kw = s->element_kgw.segment<6>(6 * e);
+    kw.noalias() = b.element_Kg * w;
+    s->element_short(e) = 0.5 * w.dot(kw);  // ½ ∫_e v'² dx [m]
+  }
+  s->strain_coef.noalias() = b.element_strain_basis.transpose() * s->element_short;
+  s->projected_short.noalias() = b.element_strain_basis * s->strain_coef;
+  for (int e = 0; e < ne; ++e) {
+    const auto w = s->element_dofs.segment<6>(6 * e);
+    const double ps = s->projected_short(e);
+    s->element_force(e) = k * (w[3] - w[0] + ps);
+    auto f = s->element_gq.segment<6>(6 * e);
+    f = s->element_force(e) * s->element_kgw.segment<6>(6 * e);
+    f[0] -= k * ps;
+    f[3] += k * ps;
+  }
+  s->Fg.noalias() = b.element_rows.transpose() * s->element_gq;
+}
+
+// Rayleigh β on the second-order strain rates ε̇_e = δ̇_e + (P ṡ)_e (Kelvin–Voigt): beyond
+// β K q̇ (in D q̇) the damping force gains β k Σ_e Φ_eᵀ ((P ṡ)_e d + (P ε̇)_e K_G w_e).
+// Needs UpdateSecondOrderStrain's K_G w_e.
+void UpdateKelvinVoigt(const Body& b, const CMap& qd, BodyScratch* s) {
+  const int ne = b.num_elements();
+  const Mat& V = b.element_strain_basis;
+  s->element_rate.noalias() = b.element_rows * qd;
+  for (int e = 0; e < ne; ++e) {
+    s->element_short_rate(e) =
+        s->element_kgw.segment<6>(6 * e).dot(s->element_rate.segment<6>(6 * e));
+  }
+  s->rate_coef.noalias() = V.transpose() * s->element_short_rate;
+  s->projected_short_rate.noalias() = V * s->rate_coef;
+  for (int e = 0; e < ne; ++e) {
+    s->strain_rate(e) =
+        s->element_rate(6 * e + 3) - s->element_rate(6 * e) + s->projected_short_rate(e);
+  }
+  s->rate_coef.noalias() = V.transpose() * s->strain_rate;
+  s->projected_strain_rate.noalias() = V * s->rate_coef;
+  for (int e = 0; e < ne; ++e) {
+    auto f = s->element_kv.segment<6>(6 * e);
+    f = s->projected_strain_rate(e) * s->element_kgw.segment<6>(6 * e);
+    f[0] -= s->projected_short_rate(e);
+    f[3] += s->projected_short_rate(e);
+  }
+  s->tmp.head(b.num_modes).noalias() = b.element_rows.transpose() * s->element_kv;
+  s->Dqd += (b.kelvin_voigt_beta * b.element_axial_stiffness) * s->tmp.head(b.num_modes);
+}
+
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
 // refreshes them itself): output samples at 100 kHz need the kinematics and the energies only.
 void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s,
@@ -48,19 +104,61 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   s->Fg.setZero();
   // Output samples (dynamics false) need ½ qᵀKq only, not F_g.
   if (b.geometric_stiffening && dynamics) {
-    // F_g = Σ_e Φ_eᵀ N_e K_G Φ_e q (FlexibleBodySpec::geometric_stiffening).
-    s->element_dofs.noalias() = b.element_rows * q;
-    s->element_force.noalias() = b.element_axial_force * q;
-    for (int e = 0; e < b.num_elements(); ++e) {
-      s->element_gq.segment<6>(6 * e).noalias() =
-          s->element_force(e) * (b.element_Kg * s->element_dofs.segment<6>(6 * e));
-    }
-    s->Fg.noalias() = b.element_rows.transpose() * s->element_gq;
+    UpdateSecondOrderStrain(b, q, s);
     s->Kq += s->Fg;
   }
   if (!dynamics) return;
   s->Dqd.noalias() = b.D * qd;
+  if (b.kelvin_voigt_beta > 0.0) UpdateKelvinVoigt(b, qd, s);
   s->Sqd.noalias() = b.Stilde * qd;
+}
+
+// ∂F_g/∂q = Σ_e Φ_eᵀ (N_e K_G + k (K_G w_e dᵀ + d (K_G w_e)ᵀ)) Φ_e + k H Hᵀ, with
+// H = Σ_e Φ_eᵀ K_G w_e V_e (n × r, V_e row e of V); and, with Kelvin–Voigt damping, A = Eᵀ V,
+// Ḣ = Σ_e Φ_eᵀ K_G ẇ_e V_e:
+//   ∂F_kv/∂q̇ = β k (A Hᵀ + H Aᵀ + H Hᵀ),
+//   ∂F_kv/∂q = β k (A Ḣᵀ + H Ḣᵀ + Σ_e (P ε̇)_e Φ_eᵀ K_G Φ_e).
+void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s) {
+  const double k = b.element_axial_stiffness;
+  const int ne = b.num_elements();
+  const Mat& V = b.element_strain_basis;
+  const int r = static_cast<int>(V.cols());
+  for (int e = 0; e < ne; ++e) {
+    const auto rows = b.element_rows.middleRows(6 * e, 6);
+    const Eigen::Matrix<double, 6, 1> kw = s->element_kgw.segment<6>(6 * e);
+    Eigen::Matrix<double, 6, 6> ke = s->element_force(e) * b.element_Kg;
+    ke.col(0) -= k * kw;  // k K_G w dᵀ
+    ke.col(3) += k * kw;
+    ke.row(0) -= k * kw.transpose();  // k d (K_G w)ᵀ
+    ke.row(3) += k * kw.transpose();
+    s->element_jac.middleRows(6 * e, 6).noalias() = ke * rows;
+    s->element_kwv.middleRows(6 * e, 6).noalias() = kw * V.row(e);
+  }
+  s->Jg.noalias() = b.element_rows.transpose() * s->element_jac;
+  s->H.noalias() = b.element_rows.transpose() * s->element_kwv;
+  s->Jg.noalias() += k * (s->H * s->H.transpose());
+  if (b.kelvin_voigt_beta <= 0.0 || r == 0) {
+    s->Jkv_q.setZero();
+    s->Jkv_qd.setZero();
+    return;
+  }
+  const double bk = b.kelvin_voigt_beta * k;
+  s->element_rate.noalias() = b.element_rows * qd;
+  for (int e = 0; e < ne; ++e) {
+    const auto rows = b.element_rows.middleRows(6 * e, 6);
+    const Eigen::Matrix<double, 6, 1> kwd = b.element_Kg * s->element_rate.segment<6>(6 * e);
+    s->element_kwv.middleRows(6 * e, 6).noalias() = kwd * V.row(e);
+    s->element_jac.middleRows(6 * e, 6).noalias() =
+        s->projected_strain_rate(e) * (b.element_Kg * rows);
+  }
+  s->Hdot.noalias() = b.element_rows.transpose() * s->element_kwv;
+  const Mat& A = b.elongation_strain_basis;
+  s->Jkv_qd.noalias() = bk * (A * s->H.transpose());
+  s->Jkv_qd.noalias() += bk * (s->H * A.transpose());
+  s->Jkv_qd.noalias() += bk * (s->H * s->H.transpose());
+  s->Jkv_q.noalias() = bk * (A * s->Hdot.transpose());
+  s->Jkv_q.noalias() += bk * (s->H * s->Hdot.transpose());
+  s->Jkv_q.noalias() += bk * (b.element_rows.transpose() * s->element_jac);
 }
 
 // M(θ, q), ffrf-planar.md "Mass matrix".
@@ -736,16 +834,15 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
       // Quadrature: damping power q̇ᵀDq̇.
       J.block(QD + kDissipatedDamping, V + kFirstMode, 1, n) -= 2.0 * s.Dqd.transpose();
       if (b.geometric_stiffening) {
-        // ∂F_g/∂q = Σ_e Φ_eᵀ (N_e K_G Φ_e + (K_G Φ_e q) ∂N_e/∂q).
-        for (int e = 0; e < b.num_elements(); ++e) {
-          const auto rows = b.element_rows.middleRows(6 * e, 6);
-          const Eigen::Matrix<double, 6, 1> kw = b.element_Kg * s.element_dofs.segment<6>(6 * e);
-          auto je = s.element_jac.middleRows(6 * e, 6);
-          je.noalias() = s.element_force(e) * (b.element_Kg * rows);
-          je.noalias() += kw * b.element_axial_force.row(e);
-        }
-        s.Jg.noalias() = b.element_rows.transpose() * s.element_jac;
+        AddSecondOrderStrainJacobian(b, qd, &s);
         J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jg;
+        if (b.kelvin_voigt_beta > 0.0) {
+          J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jkv_q;
+          J.block(R + kFirstMode, V + kFirstMode, n, n) += s.Jkv_qd;
+          // Damping power q̇ᵀ(D q̇ + F_kv): F_kv = J_kv,q̇ q̇, so ∂/∂q̇ is 2 (D q̇ + F_kv) above.
+          J.block(QD + kDissipatedDamping, P + kFirstMode, 1, n).noalias() -=
+              qd.transpose() * s.Jkv_q;
+        }
         // Stiffening power P_s = −q̇ᵀ F_g(q).
         J.block(QD + kStiffeningWork, V + kFirstMode, 1, n) += s.Fg.transpose();
         J.block(QD + kStiffeningWork, P + kFirstMode, 1, n).noalias() += qd.transpose() * s.Jg;
@@ -1018,6 +1115,7 @@ SparsityPattern JacobianPattern(const Mechanism& model) {
     }
     for (int k = 0; k < n; ++k) {
       mark(QD + kDissipatedDamping, np + o + kFirstMode + k);
+      if (b.kelvin_voigt_beta > 0.0) mark(QD + kDissipatedDamping, o + kFirstMode + k);
       if (b.geometric_stiffening) {
         mark(QD + kStiffeningWork, o + kFirstMode + k);
         mark(QD + kStiffeningWork, np + o + kFirstMode + k);

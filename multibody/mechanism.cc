@@ -378,7 +378,7 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
     if (rod.rod.dim != fem::MeshDim::kPlanar) {
       throw InputError(key + ".geometric_stiffening", "true", "needs a planar rod");
     }
-    check_shape(rod.element_axial_force, rod.rod.num_elements, n, "element_axial_force");
+    RequirePositive(key + ".rod.element_axial_stiffness", rod.element_axial_stiffness);
     check_shape(rod.basis, rod.rod.num_dofs(), n, "basis");
   }
   if (n > 0) {
@@ -409,8 +409,14 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
     const int ne = rod.rod.num_elements;
     b.element_rows.resize(6 * ne, n);
     for (int e = 0; e < ne; ++e) b.element_rows.middleRows(6 * e, 6) = rod.ElementBasisRows(e);
-    b.element_axial_force = rod.element_axial_force;
+    b.element_axial_stiffness = rod.element_axial_stiffness;
     b.element_Kg = 0.5 * (rod.element_Kg + rod.element_Kg.transpose());
+    b.element_strain_basis = rod.ElongationBasis();
+    Mat E(ne, n);  // ∂δ/∂q
+    for (int e = 0; e < ne; ++e) {
+      E.row(e) = b.element_rows.row(6 * e + 3) - b.element_rows.row(6 * e);
+    }
+    b.elongation_strain_basis = E.transpose() * b.element_strain_basis;
   }
   b.damping = spec.damping;
   b.rod = spec.rod;
@@ -445,6 +451,7 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
       b.D = 0.5 * (b.D + b.D.transpose());
     } else if (spec.damping.kind == DampingKind::kRayleigh) {
       b.D = spec.damping.rayleigh_alpha * b.Mff + spec.damping.rayleigh_beta * b.K;
+      if (b.geometric_stiffening) b.kelvin_voigt_beta = spec.damping.rayleigh_beta;
     } else if (spec.damping.kind == DampingKind::kMatrix) {
       b.D = 0.5 * (spec.damping.matrix + spec.damping.matrix.transpose());
     }

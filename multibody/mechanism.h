@@ -109,13 +109,21 @@ struct FlexibleBodySpec {
   std::string name;
   std::shared_ptr<const fem::ReducedRod> rod;  ///< reduced rod (shared, immutable), non-null
   DampingSpec damping;
-  /// Geometric stiffness of the distributed axial force: the elastic force gains
-  /// F_g(q) = Σ_e N_e(q) Φ_eᵀ K_G Φ_e q, with N_e = EA × element e's own axial strain
-  /// (fem::ReducedRod::element_axial_force). This is the second-order (P-delta) term of the
-  /// beam's strain energy with the axial force taken from the linear strain; together with the
-  /// exact frame motion it makes the body right to second order in the rotations, in any
-  /// attached frame. F_g is not a gradient, so its work is book-kept separately in the energy
-  /// balance (Quadrature::kStiffeningWork).
+  /// Second-order (von Kármán) axial strain. Element e (dofs w_e = Φ_e q) stretches by
+  /// δ_e = u_b − u_a and its bending shortens its chord by s_e = ½ w_eᵀ K_G w_e = ½ ∫_e v'² dx;
+  /// its axial force is N_e = EA/L_e (δ_e + (P s)_e) and the strain energy Σ_e L_e N_e²/(2 EA).
+  /// P projects the shortening field s on the elongation fields the basis can carry (the span
+  /// of δ(q), energy-orthogonal; P = I for the full FE rod). The part it removes would be
+  /// relieved, at no energy, by axial freedom the reduced basis lacks; keeping it would lock
+  /// the reduced rod (an 8-mode Craig–Bampton rod bent 3 mm is then 12 % too stiff). The sum of
+  /// s, the approach of the rod's ends, is kept: uniform stretching is always in the span.
+  /// Beyond K q the elastic force gains F_g = Σ_e Φ_eᵀ (N_e K_G w_e + EA/L_e (P s)_e d),
+  /// d = (−1, 0, 0, 1, 0, 0): the geometric stiffness of the distributed axial force (P-delta)
+  /// and the shortening of the bent rod, which the small end's axial coordinate carries. With
+  /// the exact frame motion the body is right to second order in the rotations in any attached
+  /// frame. Rayleigh damping's β part acts on these strains' rates (Kelvin–Voigt), not on the
+  /// shortening motion. The force's work is book-kept in the energy balance
+  /// (Quadrature::kStiffeningWork).
   bool geometric_stiffening{true};
 };
 
@@ -168,10 +176,14 @@ struct Body {
   // Elastic forces.
   Mat K;  ///< n×n
   bool geometric_stiffening{false};
-  Mat element_rows;         ///< [Φ_0; Φ_1; …] (6 num_elements × n), geometric stiffening only
-  Mat element_axial_force;  ///< num_elements × n: N_e = row e · q [N]
+  Mat element_rows;  ///< [Φ_0; Φ_1; …] (6 num_elements × n), geometric stiffening only
+  double element_axial_stiffness{0.0};     ///< E A / L_e [N/m]
   Eigen::Matrix<double, 6, 6> element_Kg;  ///< K_G per newton of tension [1/m]
-  int num_elements() const { return static_cast<int>(element_axial_force.rows()); }
+  /// V (num_elements × r), orthonormal columns spanning the elongation fields δ(q): P = V Vᵀ.
+  Mat element_strain_basis;
+  Mat elongation_strain_basis;    ///< Eᵀ V (n × r), E = ∂δ/∂q (num_elements × n)
+  double kelvin_voigt_beta{0.0};  ///< Rayleigh β applied to the second-order strains [s]
+  int num_elements() const { return static_cast<int>(element_rows.rows() / 6); }
   Mat D;  ///< n×n damping
   DampingSpec damping;
   Vec modal_frequencies_hz;  ///< eigenfrequencies of (K, M_ff) [Hz] (empty if rigid)

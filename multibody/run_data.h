@@ -27,15 +27,31 @@ struct BodyScratch {
   Vec Fg;                  ///< F_g(q), the geometric-stiffness force (n) [N]
   Vec element_dofs;        ///< Φ_e q stacked over the elements (6 num_elements) [m, rad]
   Vec element_force;       ///< N_e(q) (num_elements) [N]
-  Vec element_gq;          ///< N_e K_G Φ_e q stacked (6 num_elements) [N]
-  Mat element_jac;         ///< ∂(element_gq)/∂q (6 num_elements × n), Jacobian only
+  Vec element_kgw;         ///< K_G Φ_e q stacked (6 num_elements) [-]
+  Vec element_short;       ///< s_e = ½ w_eᵀ K_G w_e (num_elements) [m]
+  Vec projected_short;     ///< P s (num_elements) [m]
+  Vec strain_coef;         ///< Vᵀ s (r) [m]
+  Vec element_gq;          ///< element forces of F_g stacked (6 num_elements) [N]
+  Mat element_jac;         ///< element Jacobian rows (6 num_elements × n), Jacobian only
+  Mat element_kwv;         ///< K_G w_e V_e stacked (6 num_elements × r), Jacobian only
+  Mat H;                   ///< Σ_e Φ_eᵀ K_G w_e V_e (n × r), Jacobian only
   Mat Jg;                  ///< ∂F_g/∂q (n × n), Jacobian only
-  Vec Dqd;                 ///< D q̇ (n) [N]
-  Vec Sqd;                 ///< S̃ q̇ (n)
-  Mat M;                   ///< mass matrix (nb × nb)
-  Vec Qv;                  ///< quadratic-velocity vector (nb)
-  Vec tmp;                 ///< nb
-  Mat2X AS;                ///< A S̄ (2×n), Jacobian only
+  // Kelvin–Voigt damping of the second-order strains (Body::kelvin_voigt_beta > 0).
+  Vec element_rate;           ///< Φ_e q̇ stacked (6 num_elements) [m/s, rad/s]
+  Vec element_short_rate;     ///< ṡ_e (num_elements) [m/s]
+  Vec projected_short_rate;   ///< P ṡ (num_elements) [m/s]
+  Vec strain_rate;            ///< ε̇_e L_e = δ̇_e + (P ṡ)_e (num_elements) [m/s]
+  Vec projected_strain_rate;  ///< P ε̇ L (num_elements) [m/s]
+  Vec rate_coef;              ///< (r) [m/s]
+  Vec element_kv;             ///< element forces of F_kv / (β k) stacked (6 num_elements) [m/s]
+  Mat Hdot;                   ///< Σ_e Φ_eᵀ K_G ẇ_e V_e (n × r), Jacobian only
+  Mat Jkv_q, Jkv_qd;          ///< ∂F_kv/∂q, ∂F_kv/∂q̇ (n × n), Jacobian only
+  Vec Dqd;                    ///< D q̇ (n) [N]
+  Vec Sqd;                    ///< S̃ q̇ (n)
+  Mat M;                      ///< mass matrix (nb × nb)
+  Vec Qv;                     ///< quadratic-velocity vector (nb)
+  Vec tmp;                    ///< nb
+  Mat2X AS;                   ///< A S̄ (2×n), Jacobian only
 };
 
 /// World kinematics of a marker at the current state plus its Jacobian pieces.

@@ -277,9 +277,13 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
       const std::string name = "gauge" + std::to_string(g + 1);
       const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
       const RowVec strain_row = rows.axial + rows.bending;
+      // The second-order axial strain (rod.geometric_stiffening): the chord's shortening.
+      const Mat membrane = cfg.Bool("rod.geometric_stiffening") ? rows.membrane : Mat();
       rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
                [=](const SampleView& s, double* v) {
-                 v[0] = strain_row.dot(Eigen::Map<const Vec>(s.y() + q0, n));
+                 const Eigen::Map<const Vec> q(s.y() + q0, n);
+                 v[0] = strain_row.dot(q);
+                 if (membrane.size() > 0) v[0] += q.dot(membrane * q);
                  v[1] = E * v[0];
                });
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};

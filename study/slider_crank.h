@@ -29,6 +29,8 @@ struct MechanismModel {
   /// `conrod` is then its node-0 body.
   std::shared_ptr<const multibody::ExactRod> exact;
   multibody::BodyId crank, conrod, slider;  ///< slider-crank bodies (pendulum: conrod only)
+  /// The small-end clamp welded to the reduced rod's last node (SmallClampIsABody), or −1.
+  multibody::BodyId small_clamp{-1};
   multibody::MarkerId crank_pin, big_end, small_end, journal;
   multibody::JointId crank_pivot_joint, big_end_joint, small_end_joint, guide_joint;
   multibody::DriverId driver;
@@ -51,6 +53,10 @@ struct MechanismModel {
 
 /// Reduced rod for the run (flexible rod only): rod.*, reduction.*, clamps as attachments.
 std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg);
+/// Whether the reduced rod's small-end clamp (clamp.small_mass > 0) is a rigid body welded to
+/// its last node, carrying the bush, rather than an attachment in the rod's basis: a rigid
+/// body turns the bush's offset exactly with the node.
+bool SmallClampIsABody(const Config& cfg);
 
 /// The mechanism for the input. `rod` from BuildReducedRod (null: built here, or rigid rod).
 /// `ideal_joint` forces an ideal small-end joint (the ideal twin of a clearance run).

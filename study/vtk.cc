@@ -82,7 +82,8 @@ std::string FrameVtu(const VtkSeries& series, const VtkFrame& f) {
   s += "<?xml version=\"1.0\"?>\n";
   s += "<!-- flexrod run frame: t = " + NumberText(f.time) + " s; rod deflection drawn " +
        NumberText(series.options.scale) +
-       " times (deflection from the chord of the rod's end nodes); point data unscaled, SI units -->\n";
+       " times (deflection from the chord of the rod's end nodes); point data unscaled, SI units "
+       "-->\n";
   s += "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
   s += "  <UnstructuredGrid>\n";
   s += "    <FieldData>\n";
@@ -218,6 +219,7 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
   L.cells.push_back({kVtkPolyLine, VtkPart::kRod, rod_line});
   L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.big_end, L.rod_first}});
   if (!model.is_pendulum) {
+    // Where the small-end clamp is a body of its own, Frame() draws the bush at its marker.
     const multibody::Marker& small = m.marker(model.small_end);
     L.small_end = next++;
     carried_.push_back({L.small_end, small.position, small.S_u});
@@ -295,6 +297,7 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
     f.points[c.index] = R + A * (c.u0 + dc + si * (d - dc));
     f.displacement[c.index] = (d - dc).norm();
   }
+  if (model_.small_clamp.index >= 0) f.points[L.small_end] = s.Marker(model_.small_end).position;
   if (n > 0) {
     const Vec axial = axial_rows_ * q, bending = bending_rows_ * q;
     for (int k = 0; k < L.rod_count; ++k) {
@@ -349,12 +352,12 @@ std::string WriteVtkSeries(const std::string& dir, const VtkSeries& series,
   EnsureDirectory("--vtk", dir);
   std::string pvd;
   pvd += "<?xml version=\"1.0\"?>\n";
-  pvd += "<!-- flexrod run: " + std::to_string(series.frames.size()) + " frames at " +
-         NumberText(series.frame_rate) +
-         " Hz; timestep = time [s]; rod deflection drawn " +
-         NumberText(series.options.scale) +
-         " times from the chord of the rod's end nodes (deformation_scale [1] in each frame's field "
-         "data) -->\n";
+  pvd +=
+      "<!-- flexrod run: " + std::to_string(series.frames.size()) + " frames at " +
+      NumberText(series.frame_rate) + " Hz; timestep = time [s]; rod deflection drawn " +
+      NumberText(series.options.scale) +
+      " times from the chord of the rod's end nodes (deformation_scale [1] in each frame's field "
+      "data) -->\n";
   pvd += "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
   pvd += "  <Collection>\n";
   for (size_t i = 0; i < series.frames.size(); ++i) {

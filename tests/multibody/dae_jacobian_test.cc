@@ -82,8 +82,9 @@ Mismatch Compare(const Mat& J, const Mat& Jfd) {
   return w;
 }
 
-void ExpectJacobianMatches(double cj, unsigned seed) {
-  auto c = BuildComposite();
+void ExpectJacobianMatches(double cj, unsigned seed,
+                           DampingSpec damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3})) {
+  auto c = BuildComposite(true, damping);
   const Mechanism& m = c.model;
   RunData data(m);
   Vec y, yp;
@@ -109,6 +110,13 @@ TEST(DaeJacobian, IterationMatrixMatchesFiniteDifferencesAtLargeCj) {
 
 TEST(DaeJacobian, MatchesFiniteDifferencesAtAnotherState) { ExpectJacobianMatches(37.0, 3); }
 
+// Rayleigh damping: its β part acts on the rates of the second-order strains (Kelvin–Voigt),
+// a force nonlinear in q and q̇ with its own analytic Jacobian.
+TEST(DaeJacobian, MatchesFiniteDifferencesWithKelvinVoigtDamping) {
+  ExpectJacobianMatches(0.0, 4, DampingSpec::Rayleigh(3.0, 2e-3));
+  ExpectJacobianMatches(25.0, 5, DampingSpec::Rayleigh(0.0, 5e-3));
+}
+
 // Negative control: the comparison does catch a Jacobian that is wrong by 1e-4 in one
 // configuration-dependent entry (the prismatic-joint Hessian block of the rod).
 TEST(DaeJacobian, ComparisonDetectsAWrongEntry) {
@@ -133,7 +141,8 @@ TEST(DaeJacobian, NonZerosLieInsideTheSparsityPattern) {
   ASSERT_EQ(pat.size, m.size());
   std::vector<std::vector<bool>> in(m.size(), std::vector<bool>(m.size(), false));
   for (int col = 0; col < m.size(); ++col)
-    for (int64_t k = pat.col_ptr[col]; k < pat.col_ptr[col + 1]; ++k) in[pat.row_index[k]][col] = true;
+    for (int64_t k = pat.col_ptr[col]; k < pat.col_ptr[col + 1]; ++k)
+      in[pat.row_index[k]][col] = true;
   for (unsigned seed = 10; seed < 13; ++seed) {
     Vec y, yp;
     RandomState(m, seed, &y, &yp);

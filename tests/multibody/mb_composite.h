@@ -25,8 +25,8 @@ class MaxwellLink final : public ForceElement {
   int num_states() const override { return 1; }
   int num_memory() const override { return 1; }
   int num_roots() const override { return 1; }
-  bool Evaluate(double /*t*/, const MarkerKinematics& i, const MarkerKinematics& j,
-                const double* z, const double* /*memory*/, ElementOutput* out) const override {
+  bool Evaluate(double /*t*/, const MarkerKinematics& i, const MarkerKinematics& j, const double* z,
+                const double* /*memory*/, ElementOutput* out) const override {
     const Vec2 d = j.position - i.position;
     const double L = d.norm();
     if (!(L > 1e-12)) return false;
@@ -46,8 +46,8 @@ class MaxwellLink final : public ForceElement {
              const double*, double* g) const override {
     g[0] = (j.position - i.position).norm() - trigger_;
   }
-  bool OnRoot(int, int, double, const MarkerKinematics& i, const MarkerKinematics& j,
-              const double*, double* memory) const override {
+  bool OnRoot(int, int, double, const MarkerKinematics& i, const MarkerKinematics& j, const double*,
+              double* memory) const override {
     const Vec2 d = j.position - i.position;
     memory[0] = d.normalized().dot(j.velocity - i.velocity);
     return true;
@@ -70,7 +70,11 @@ struct CompositeModel {
   std::shared_ptr<fem::ReducedRod> rod;
 };
 
-inline CompositeModel BuildComposite(bool stiffening = true) {
+/// The composite with the rod's damping given (default: modal ratios); Rayleigh damping with
+/// β > 0 and the geometric stiffening adds the Kelvin–Voigt damping of the second-order strains.
+inline CompositeModel BuildComposite(bool stiffening = true,
+                                     DampingSpec damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1,
+                                                                                    0.3})) {
   CompositeModel out;
   out.rod = MakeSyntheticRod(4, 12, 7);
   MechanismBuilder b;
@@ -78,7 +82,7 @@ inline CompositeModel BuildComposite(bool stiffening = true) {
   FlexibleBodySpec fs;
   fs.name = "rod";
   fs.rod = out.rod;
-  fs.damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3});
+  fs.damping = damping;
   fs.geometric_stiffening = stiffening;
   const BodyId rod = b.AddFlexibleBody(fs);
   const BodyId slider = b.AddRigidBody({"slider", 0.4, 1e-4, Vec2(0.0, 0.0)});
