@@ -190,6 +190,9 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
     const double h = kNodeLimitOffset * rod.rod.element_length();
     axial_rows_ = Mat::Zero(nn, n);
     bending_rows_ = Mat::Zero(nn, n);
+    // The second-order membrane strain (rod.geometric_stiffening), as the gauges read it.
+    const bool membrane = cfg.Bool("rod.geometric_stiffening");
+    if (membrane) axial_quadratic_.assign(nn, Mat::Zero(n, n));
     for (int k = 0; k < nn; ++k) {
       const double x = rod.rod.node_x(k);
       int sides = 0;
@@ -198,10 +201,12 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
         const fem::StrainGaugeRows g = rod.Gauge("node" + std::to_string(k), xs, y);
         axial_rows_.row(k) += E * g.axial;
         bending_rows_.row(k) += E * g.bending;
+        if (membrane) axial_quadratic_[k] += E * g.membrane;
         ++sides;
       }
       axial_rows_.row(k) /= sides;
       bending_rows_.row(k) /= sides;
+      if (membrane) axial_quadratic_[k] /= sides;
     }
   } else {
     const double length = cfg.Quantity("rod.length");
@@ -302,6 +307,8 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
     const Vec axial = axial_rows_ * q, bending = bending_rows_ * q;
     for (int k = 0; k < L.rod_count; ++k) {
       f.axial_stress[L.rod_first + k] = axial[k];
+      if (!axial_quadratic_.empty())
+        f.axial_stress[L.rod_first + k] += q.dot(axial_quadratic_[k] * q);
       f.bending_stress[L.rod_first + k] = bending[k];
     }
   }

@@ -89,7 +89,7 @@ struct VtkFrame {
   /// y = +half depth in the mechanism plane: E times the gauge rows (fem::ReducedRod::Gauge),
   /// each node the mean of the limits from the elements on its two sides.
   std::vector<double> bending_stress;  ///< −E y κ [Pa]
-  std::vector<double> axial_stress;    ///< E u' [Pa]
+  std::vector<double> axial_stress;    ///< E (u' + the second-order membrane strain) [Pa]
 };
 
 struct VtkSeries {
@@ -127,7 +127,8 @@ class VtkRecorder {
   long last_index_{-1};  ///< last sample index recorded; −1: no limit
   std::vector<CarriedPoint> carried_;
   size_t chord_first_{0}, chord_last_{0};  ///< carried_ entries of the rod's end nodes
-  Mat axial_rows_, bending_rows_;                             ///< nodes × n stress rows [Pa]
+  Mat axial_rows_, bending_rows_;          ///< nodes × n stress rows [Pa]
+  std::vector<Mat> axial_quadratic_;  ///< per node: E × the gauge's membrane matrix [Pa] (n × n)
   double slider_half_length_{0.0}, slider_half_height_{0.0};  ///< [m]
   double bush_radius_{0.0}, pin_radius_{0.0};                 ///< [m]
 };
