@@ -387,7 +387,7 @@ StrainGaugeRows ReducedRod::Gauge(const std::string& name, double x, double y) c
   g.axial = sh.B.row(0) * phi_e;
   g.bending = -y * (sh.B.row(1) * phi_e);
   // (P s)_e = ½ qᵀ (Σ_f P_ef Φ_fᵀ K_G Φ_f) q.
-  const Mat V = ElongationBasis();
+  const Mat V = Elongation().basis;
   const Vec Pe = V * V.row(e).transpose();
   g.membrane = Mat::Zero(n, n);
   for (int f = 0; f < rod.num_elements; ++f) {
@@ -398,7 +398,7 @@ StrainGaugeRows ReducedRod::Gauge(const std::string& name, double x, double y) c
   return g;
 }
 
-Mat ReducedRod::ElongationBasis() const {
+ElongationSpace ReducedRod::Elongation() const {
   FLEXROD_ASSERT(rod.dim == MeshDim::kPlanar);
   const int ne = rod.num_elements, n = num_coordinates();
   Mat E(ne, n);
@@ -406,12 +406,16 @@ Mat ReducedRod::ElongationBasis() const {
     const auto dofs = PlanarElementDofs(e);
     E.row(e) = basis.row(dofs[3]) - basis.row(dofs[0]);
   }
-  if (n == 0) return Mat(ne, 0);
-  const Eigen::JacobiSVD<Mat> svd(E, Eigen::ComputeThinU);
+  if (n == 0) return {Mat(ne, 0), Mat(0, ne)};
+  const Eigen::JacobiSVD<Mat> svd(E, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Vec& sv = svd.singularValues();
   int r = 0;
   while (r < sv.size() && sv[r] > 0.0 && sv[r] > 1e-9 * sv[0]) ++r;
-  return svd.matrixU().leftCols(r);
+  ElongationSpace out;
+  out.basis = svd.matrixU().leftCols(r);
+  out.shortening_to_q =
+      svd.matrixV().leftCols(r) * sv.head(r).cwiseInverse().asDiagonal() * out.basis.transpose();
+  return out;
 }
 
 Eigen::Matrix<double, 6, Eigen::Dynamic> ReducedRod::ElementBasisRows(int e) const {

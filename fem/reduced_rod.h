@@ -70,7 +70,7 @@ struct StrainGaugeRows {
   RowVec axial;    ///< u'(x) row [1]
   RowVec bending;  ///< −y κ(x) row [1]
   /// The second-order part of the axial strain, ε = (axial + bending) q + qᵀ membrane q: the
-  /// gauge element's projected chord shortening (P s)_e / L_e (ElongationBasis) [1] (n × n).
+  /// gauge element's projected chord shortening (P s)_e / L_e (Elongation) [1] (n × n).
   Mat membrane;
 };
 
@@ -82,6 +82,13 @@ struct ModeReportRow {
   double mac{0.0};             ///< modal assurance criterion vs the full-FE mode [-]
   double effective_mass{0.0};  ///< in-plane transverse effective modal mass [kg]
   bool rigid_body{false};      ///< ≈ 0 Hz mode
+};
+
+/// ReducedRod::Elongation: with E = U Σ Wᵀ (rank r), basis = U_r and shortening_to_q =
+/// W_r Σ_r⁻¹ U_rᵀ = E⁺ P, P = U_r U_rᵀ the projector on the elongation fields; E E⁺ P = P.
+struct ElongationSpace {
+  Mat basis;            ///< U_r (num_elements × r), orthonormal columns
+  Mat shortening_to_q;  ///< E⁺ P (n × num_elements) [q per m]
 };
 
 struct ReducedRod {
@@ -96,10 +103,9 @@ struct ReducedRod {
   /// newton of tension is ∫ N_v'ᵀ N_v' dx of the element's cubic deflection, so ½ w_eᵀ K_G w_e
   /// = ½ ∫_e v'² dx is the shortening of the element's chord by its bending.
   double element_axial_stiffness{0.0};  ///< E A / L_e [N/m]
-  /// V (num_elements × r): orthonormal columns spanning the elongation fields δ(q) the basis
-  /// carries (δ_e = u_b − u_a of element e), from an SVD (relative threshold 1e-9). P = V Vᵀ
-  /// projects the chord-shortening field on them (multibody::FlexibleBodySpec).
-  Mat ElongationBasis() const;
+  /// The elongation fields δ(q) the basis carries (planar rods), from an SVD of E = ∂δ/∂q
+  /// (num_elements × n; δ_e = u_b − u_a of element e; relative threshold 1e-9).
+  ElongationSpace Elongation() const;
   Eigen::Matrix<double, 6, 6> element_Kg;  ///< planar frame K_G per newton of tension
   PlanarInertia inertia;
   std::vector<MarkerShape> nodes;  ///< one per FE node

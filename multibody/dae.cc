@@ -51,33 +51,28 @@ void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
   s->Fg.noalias() = b.element_rows.transpose() * s->element_gq;
 }
 
-// Rayleigh β on the second-order strain rates ε̇_e = δ̇_e + (P ṡ)_e (Kelvin–Voigt): beyond
-// β K q̇ (in D q̇) the damping force gains β k Σ_e Φ_eᵀ ((P ṡ)_e d + (P ε̇)_e K_G w_e).
-// Needs UpdateSecondOrderStrain's K_G w_e.
-void UpdateKelvinVoigt(const Body& b, const CMap& qd, BodyScratch* s) {
-  const int ne = b.num_elements();
-  const Mat& V = b.element_strain_basis;
+// Damping of the second-order strains (Body::strain_damping): D acts on the rates of the
+// strain-consistent coordinates q̃ = q + B s(q), whose elongations are the strains, E q̃ = δ + P s,
+// so the bent rod's shortening motion, which strains nothing, is not damped. With v = q̇ + B ṡ,
+// ṡ_e = (K_G w_e)ᵀ ẇ_e, the force is (I + B ∂s/∂q)ᵀ D v = g + Σ_e Φ_eᵀ K_G w_e h_e, g = D v,
+// h = Bᵀ g; with D = β K it is Kelvin–Voigt on the strains. Needs UpdateSecondOrderStrain's
+// K_G w_e.
+void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
+  const int ne = b.num_elements(), n = b.num_modes;
   s->element_rate.noalias() = b.element_rows * qd;
   for (int e = 0; e < ne; ++e) {
     s->element_short_rate(e) =
         s->element_kgw.segment<6>(6 * e).dot(s->element_rate.segment<6>(6 * e));
   }
-  s->rate_coef.noalias() = V.transpose() * s->element_short_rate;
-  s->projected_short_rate.noalias() = V * s->rate_coef;
+  s->strain_velocity = qd;
+  s->strain_velocity.noalias() += b.shortening_to_q * s->element_short_rate;
+  s->damping_g.noalias() = b.D * s->strain_velocity;
+  s->damping_h.noalias() = b.shortening_to_q.transpose() * s->damping_g;
   for (int e = 0; e < ne; ++e) {
-    s->strain_rate(e) =
-        s->element_rate(6 * e + 3) - s->element_rate(6 * e) + s->projected_short_rate(e);
+    s->element_kv.segment<6>(6 * e) = s->damping_h(e) * s->element_kgw.segment<6>(6 * e);
   }
-  s->rate_coef.noalias() = V.transpose() * s->strain_rate;
-  s->projected_strain_rate.noalias() = V * s->rate_coef;
-  for (int e = 0; e < ne; ++e) {
-    auto f = s->element_kv.segment<6>(6 * e);
-    f = s->projected_strain_rate(e) * s->element_kgw.segment<6>(6 * e);
-    f[0] -= s->projected_short_rate(e);
-    f[3] += s->projected_short_rate(e);
-  }
-  s->tmp.head(b.num_modes).noalias() = b.element_rows.transpose() * s->element_kv;
-  s->Dqd += (b.kelvin_voigt_beta * b.element_axial_stiffness) * s->tmp.head(b.num_modes);
+  s->Dqd = s->damping_g;
+  s->Dqd.head(n).noalias() += b.element_rows.transpose() * s->element_kv;
 }
 
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
@@ -108,8 +103,11 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
     s->Kq += s->Fg;
   }
   if (!dynamics) return;
-  s->Dqd.noalias() = b.D * qd;
-  if (b.kelvin_voigt_beta > 0.0) UpdateKelvinVoigt(b, qd, s);
+  if (b.strain_damping) {
+    UpdateStrainDamping(b, qd, s);
+  } else {
+    s->Dqd.noalias() = b.D * qd;
+  }
   s->Sqd.noalias() = b.Stilde * qd;
 }
 
@@ -118,11 +116,10 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
 // Ḣ = Σ_e Φ_eᵀ K_G ẇ_e V_e:
 //   ∂F_kv/∂q̇ = β k (A Hᵀ + H Aᵀ + H Hᵀ),
 //   ∂F_kv/∂q = β k (A Ḣᵀ + H Ḣᵀ + Σ_e (P ε̇)_e Φ_eᵀ K_G Φ_e).
-void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s) {
+void AddSecondOrderStrainJacobian(const Body& b, BodyScratch* s) {
   const double k = b.element_axial_stiffness;
   const int ne = b.num_elements();
   const Mat& V = b.element_strain_basis;
-  const int r = static_cast<int>(V.cols());
   for (int e = 0; e < ne; ++e) {
     const auto rows = b.element_rows.middleRows(6 * e, 6);
     const Eigen::Matrix<double, 6, 1> kw = s->element_kgw.segment<6>(6 * e);
@@ -137,28 +134,25 @@ void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s)
   s->Jg.noalias() = b.element_rows.transpose() * s->element_jac;
   s->H.noalias() = b.element_rows.transpose() * s->element_kwv;
   s->Jg.noalias() += k * (s->H * s->H.transpose());
-  if (b.kelvin_voigt_beta <= 0.0 || r == 0) {
-    s->Jkv_q.setZero();
-    s->Jkv_qd.setZero();
-    return;
-  }
-  const double bk = b.kelvin_voigt_beta * k;
-  s->element_rate.noalias() = b.element_rows * qd;
+  if (!b.strain_damping) return;
+  // Damping (UpdateStrainDamping): with S = ∂s/∂q (rows (K_G w_e)ᵀ Φ_e), Ṡ (rows (K_G ẇ_e)ᵀ Φ_e),
+  // C = I + B S: ∂F_d/∂q̇ = Cᵀ D C, ∂F_d/∂q = Cᵀ D B Ṡ + Σ_e h_e Φ_eᵀ K_G Φ_e.
   for (int e = 0; e < ne; ++e) {
     const auto rows = b.element_rows.middleRows(6 * e, 6);
+    s->short_jac.row(e).noalias() = s->element_kgw.segment<6>(6 * e).transpose() * rows;
     const Eigen::Matrix<double, 6, 1> kwd = b.element_Kg * s->element_rate.segment<6>(6 * e);
-    s->element_kwv.middleRows(6 * e, 6).noalias() = kwd * V.row(e);
-    s->element_jac.middleRows(6 * e, 6).noalias() =
-        s->projected_strain_rate(e) * (b.element_Kg * rows);
+    s->short_rate_jac.row(e).noalias() = kwd.transpose() * rows;
+    s->element_jac.middleRows(6 * e, 6).noalias() = s->damping_h(e) * (b.element_Kg * rows);
   }
-  s->Hdot.noalias() = b.element_rows.transpose() * s->element_kwv;
-  const Mat& A = b.elongation_strain_basis;
-  s->Jkv_qd.noalias() = bk * (A * s->H.transpose());
-  s->Jkv_qd.noalias() += bk * (s->H * A.transpose());
-  s->Jkv_qd.noalias() += bk * (s->H * s->H.transpose());
-  s->Jkv_q.noalias() = bk * (A * s->Hdot.transpose());
-  s->Jkv_q.noalias() += bk * (s->H * s->Hdot.transpose());
-  s->Jkv_q.noalias() += bk * (b.element_rows.transpose() * s->element_jac);
+  s->strain_map.setIdentity();
+  s->strain_map.noalias() += b.shortening_to_q * s->short_jac;
+  s->dmap.noalias() = b.D * s->strain_map;
+  s->Jkv_qd.noalias() = s->strain_map.transpose() * s->dmap;
+  s->Jkv_qd -= b.D;  // the residual's velocity block already has D
+  s->bsd.noalias() = b.shortening_to_q * s->short_rate_jac;
+  s->dmap.noalias() = b.D * s->bsd;
+  s->Jkv_q.noalias() = s->strain_map.transpose() * s->dmap;
+  s->Jkv_q.noalias() += b.element_rows.transpose() * s->element_jac;
 }
 
 // M(θ, q), ffrf-planar.md "Mass matrix".
@@ -834,12 +828,12 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
       // Quadrature: damping power q̇ᵀDq̇.
       J.block(QD + kDissipatedDamping, V + kFirstMode, 1, n) -= 2.0 * s.Dqd.transpose();
       if (b.geometric_stiffening) {
-        AddSecondOrderStrainJacobian(b, qd, &s);
+        AddSecondOrderStrainJacobian(b, &s);
         J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jg;
-        if (b.kelvin_voigt_beta > 0.0) {
+        if (b.strain_damping) {
           J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jkv_q;
           J.block(R + kFirstMode, V + kFirstMode, n, n) += s.Jkv_qd;
-          // Damping power q̇ᵀ(D q̇ + F_kv): F_kv = J_kv,q̇ q̇, so ∂/∂q̇ is 2 (D q̇ + F_kv) above.
+          // Damping power q̇ᵀ F_d: F_d is linear in q̇ (Cᵀ D C q̇), so ∂/∂q̇ is 2 F_d above.
           J.block(QD + kDissipatedDamping, P + kFirstMode, 1, n).noalias() -=
               qd.transpose() * s.Jkv_q;
         }
@@ -1115,7 +1109,7 @@ SparsityPattern JacobianPattern(const Mechanism& model) {
     }
     for (int k = 0; k < n; ++k) {
       mark(QD + kDissipatedDamping, np + o + kFirstMode + k);
-      if (b.kelvin_voigt_beta > 0.0) mark(QD + kDissipatedDamping, o + kFirstMode + k);
+      if (b.strain_damping) mark(QD + kDissipatedDamping, o + kFirstMode + k);
       if (b.geometric_stiffening) {
         mark(QD + kStiffeningWork, o + kFirstMode + k);
         mark(QD + kStiffeningWork, np + o + kFirstMode + k);

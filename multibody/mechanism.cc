@@ -411,12 +411,9 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
     for (int e = 0; e < ne; ++e) b.element_rows.middleRows(6 * e, 6) = rod.ElementBasisRows(e);
     b.element_axial_stiffness = rod.element_axial_stiffness;
     b.element_Kg = 0.5 * (rod.element_Kg + rod.element_Kg.transpose());
-    b.element_strain_basis = rod.ElongationBasis();
-    Mat E(ne, n);  // ∂δ/∂q
-    for (int e = 0; e < ne; ++e) {
-      E.row(e) = b.element_rows.row(6 * e + 3) - b.element_rows.row(6 * e);
-    }
-    b.elongation_strain_basis = E.transpose() * b.element_strain_basis;
+    const fem::ElongationSpace space = rod.Elongation();
+    b.element_strain_basis = space.basis;
+    b.shortening_to_q = space.shortening_to_q;
   }
   b.damping = spec.damping;
   b.rod = spec.rod;
@@ -451,11 +448,12 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
       b.D = 0.5 * (b.D + b.D.transpose());
     } else if (spec.damping.kind == DampingKind::kRayleigh) {
       b.D = spec.damping.rayleigh_alpha * b.Mff + spec.damping.rayleigh_beta * b.K;
-      if (b.geometric_stiffening) b.kelvin_voigt_beta = spec.damping.rayleigh_beta;
     } else if (spec.damping.kind == DampingKind::kMatrix) {
       b.D = 0.5 * (spec.damping.matrix + spec.damping.matrix.transpose());
     }
   }
+  b.strain_damping = b.geometric_stiffening && b.element_strain_basis.cols() > 0 &&
+                     b.D.size() > 0 && b.D.cwiseAbs().maxCoeff() > 0.0;
   b.qq_mask.assign(n, std::vector<bool>(n, false));
   MarkMask(b.Mff, &b.qq_mask);
   MarkMask(b.Stilde, &b.qq_mask);

@@ -121,8 +121,8 @@ struct FlexibleBodySpec {
   /// d = (−1, 0, 0, 1, 0, 0): the geometric stiffness of the distributed axial force (P-delta)
   /// and the shortening of the bent rod, which the small end's axial coordinate carries. With
   /// the exact frame motion the body is right to second order in the rotations in any attached
-  /// frame. Rayleigh damping's β part acts on these strains' rates (Kelvin–Voigt), not on the
-  /// shortening motion. The force's work is book-kept in the energy balance
+  /// frame. The damping acts on the rates of these strains, not on the shortening motion (with
+  /// Rayleigh β it is Kelvin–Voigt on them). The force's work is book-kept in the energy balance
   /// (Quadrature::kStiffeningWork).
   bool geometric_stiffening{true};
 };
@@ -181,8 +181,11 @@ struct Body {
   Eigen::Matrix<double, 6, 6> element_Kg;  ///< K_G per newton of tension [1/m]
   /// V (num_elements × r), orthonormal columns spanning the elongation fields δ(q): P = V Vᵀ.
   Mat element_strain_basis;
-  Mat elongation_strain_basis;    ///< Eᵀ V (n × r), E = ∂δ/∂q (num_elements × n)
-  double kelvin_voigt_beta{0.0};  ///< Rayleigh β applied to the second-order strains [s]
+  /// B = E⁺ P (n × num_elements), E = ∂δ/∂q: q̃ = q + B s(q) has the strains as elongations.
+  Mat shortening_to_q;
+  /// D acts on q̃̇, not on q̇ (geometric stiffening with damping): the shortening of the bent
+  /// rod, which strains nothing, is not damped.
+  bool strain_damping{false};
   int num_elements() const { return static_cast<int>(element_rows.rows() / 6); }
   Mat D;  ///< n×n damping
   DampingSpec damping;

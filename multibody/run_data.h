@@ -36,22 +36,24 @@ struct BodyScratch {
   Mat element_kwv;         ///< K_G w_e V_e stacked (6 num_elements × r), Jacobian only
   Mat H;                   ///< Σ_e Φ_eᵀ K_G w_e V_e (n × r), Jacobian only
   Mat Jg;                  ///< ∂F_g/∂q (n × n), Jacobian only
-  // Kelvin–Voigt damping of the second-order strains (Body::kelvin_voigt_beta > 0).
-  Vec element_rate;           ///< Φ_e q̇ stacked (6 num_elements) [m/s, rad/s]
-  Vec element_short_rate;     ///< ṡ_e (num_elements) [m/s]
-  Vec projected_short_rate;   ///< P ṡ (num_elements) [m/s]
-  Vec strain_rate;            ///< ε̇_e L_e = δ̇_e + (P ṡ)_e (num_elements) [m/s]
-  Vec projected_strain_rate;  ///< P ε̇ L (num_elements) [m/s]
-  Vec rate_coef;              ///< (r) [m/s]
-  Vec element_kv;             ///< element forces of F_kv / (β k) stacked (6 num_elements) [m/s]
-  Mat Hdot;                   ///< Σ_e Φ_eᵀ K_G ẇ_e V_e (n × r), Jacobian only
-  Mat Jkv_q, Jkv_qd;          ///< ∂F_kv/∂q, ∂F_kv/∂q̇ (n × n), Jacobian only
-  Vec Dqd;                    ///< D q̇ (n) [N]
-  Vec Sqd;                    ///< S̃ q̇ (n)
-  Mat M;                      ///< mass matrix (nb × nb)
-  Vec Qv;                     ///< quadratic-velocity vector (nb)
-  Vec tmp;                    ///< nb
-  Mat2X AS;                   ///< A S̄ (2×n), Jacobian only
+  // Damping of the second-order strains (Body::strain_damping).
+  Vec element_rate;        ///< Φ_e q̇ stacked (6 num_elements) [m/s, rad/s]
+  Vec element_short_rate;  ///< ṡ_e (num_elements) [m/s]
+  Vec strain_velocity;     ///< v = q̇ + B ṡ (n)
+  Vec damping_g;           ///< D v (n) [N]
+  Vec damping_h;           ///< Bᵀ D v (num_elements) [N]
+  Vec element_kv;          ///< K_G w_e h_e stacked (6 num_elements) [N]
+  Mat short_jac;           ///< ∂s/∂q (num_elements × n), Jacobian only
+  Mat short_rate_jac;      ///< ∂ṡ/∂q (num_elements × n), Jacobian only
+  Mat strain_map;          ///< I + B ∂s/∂q (n × n), Jacobian only
+  Mat dmap, bsd;           ///< n × n work, Jacobian only
+  Mat Jkv_q, Jkv_qd;       ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n), Jacobian only
+  Vec Dqd;                 ///< D q̇ (n) [N]
+  Vec Sqd;                 ///< S̃ q̇ (n)
+  Mat M;                   ///< mass matrix (nb × nb)
+  Vec Qv;                  ///< quadratic-velocity vector (nb)
+  Vec tmp;                 ///< nb
+  Mat2X AS;                ///< A S̄ (2×n), Jacobian only
 };
 
 /// World kinematics of a marker at the current state plus its Jacobian pieces.

@@ -110,8 +110,9 @@ TEST(DaeJacobian, IterationMatrixMatchesFiniteDifferencesAtLargeCj) {
 
 TEST(DaeJacobian, MatchesFiniteDifferencesAtAnotherState) { ExpectJacobianMatches(37.0, 3); }
 
-// Rayleigh damping: its β part acts on the rates of the second-order strains (Kelvin–Voigt),
-// a force nonlinear in q and q̇ with its own analytic Jacobian.
+// The damping acts on the rates of the second-order strains (D on q̃̇, q̃ = q + E⁺P s(q)), a
+// force nonlinear in q and q̇ with its own analytic Jacobian: the modal damping of the tests
+// above, and Rayleigh damping here (Kelvin–Voigt on the strains).
 TEST(DaeJacobian, MatchesFiniteDifferencesWithKelvinVoigtDamping) {
   ExpectJacobianMatches(0.0, 4, DampingSpec::Rayleigh(3.0, 2e-3));
   ExpectJacobianMatches(25.0, 5, DampingSpec::Rayleigh(0.0, 5e-3));
