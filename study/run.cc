@@ -761,11 +761,6 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
                         bool ideal_joint, const RunOutputOptions& outputs) {
   std::optional<study::VtkOptions> vtk_options;
   if (outputs.record_vtk || !outputs.vtk_dir.empty()) {
-    if (cfg.Text("rod.type") == "exact") {
-      throw InputError(
-          "--vtk", outputs.vtk_dir,
-          "is not available with rod.type = exact yet (the reduced and rigid rods only)");
-    }
     vtk_options = study::VtkOptions::FromConfig(cfg);  // bad vtk.* keys fail before any work
     if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
   }

@@ -208,6 +208,14 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
       bending_rows_.row(k) /= sides;
       if (membrane) axial_quadratic_[k] /= sides;
     }
+  } else if (model.exact) {
+    // The exact rod's node bodies: placeholders here, drawn from their coordinates in Frame().
+    const fem::RodSpec& rod = model.exact->rod;
+    for (int k = 0; k < rod.num_nodes(); ++k)
+      carried_.push_back({next++, Vec2(rod.node_x(k), 0.0), Mat2X(2, 0)});
+    exact_ = std::make_shared<const ExactRodView>(m, *model.exact);
+    exact_E_ = rod.material.youngs_modulus;
+    exact_fibre_ = rod.section.half_depth_in_plane();
   } else {
     const double length = cfg.Quantity("rod.length");
     carried_.push_back({next++, Vec2::Zero(), Mat2X(2, 0)});
@@ -302,7 +310,25 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
     f.points[c.index] = R + A * (c.u0 + dc + si * (d - dc));
     f.displacement[c.index] = (d - dc).norm();
   }
-  if (model_.small_clamp.index >= 0) f.points[L.small_end] = s.Marker(model_.small_end).position;
+  if (model_.small_clamp.index >= 0 || exact_) {
+    f.points[L.small_end] = s.Marker(model_.small_end).position;
+  }
+  if (exact_) {
+    // Node k drawn at its chord point (the end nodes' chord at k/N) plus `scale` times its
+    // deflection from it; stresses from the elements' exact strains at the node.
+    const int N = L.rod_count - 1;
+    const Vec2 a = exact_->NodePosition(y, 0), b = exact_->NodePosition(y, N);
+    for (int k = 0; k <= N; ++k) {
+      const Vec2 p = exact_->NodePosition(y, k);
+      const Vec2 c = a + (static_cast<double>(k) / N) * (b - a);
+      f.points[L.rod_first + k] = c + scale * (p - c);
+      f.displacement[L.rod_first + k] = (p - c).norm();
+      const double x = model_.exact->rod.node_x(k);
+      const double axial = exact_->Strain(y, x, 0.0);
+      f.axial_stress[L.rod_first + k] = exact_E_ * axial;
+      f.bending_stress[L.rod_first + k] = exact_E_ * (exact_->Strain(y, x, exact_fibre_) - axial);
+    }
+  }
   if (n > 0) {
     const Vec axial = axial_rows_ * q, bending = bending_rows_ * q;
     for (int k = 0; k < L.rod_count; ++k) {

@@ -28,6 +28,7 @@
 #include "common/eigen.h"
 #include "multibody/simulate.h"
 #include "study/config.h"
+#include "study/exact_rod_view.h"
 #include "study/slider_crank.h"
 
 namespace flexrod::study {
@@ -129,6 +130,9 @@ class VtkRecorder {
   size_t chord_first_{0}, chord_last_{0};  ///< carried_ entries of the rod's end nodes
   Mat axial_rows_, bending_rows_;          ///< nodes × n stress rows [Pa]
   std::vector<Mat> axial_quadratic_;  ///< per node: E × the gauge's membrane matrix [Pa] (n × n)
+  /// rod.type = exact: its node bodies (drawn where they are) and strains.
+  std::shared_ptr<const ExactRodView> exact_;
+  double exact_E_{0.0}, exact_fibre_{0.0};                    ///< [Pa], [m]
   double slider_half_length_{0.0}, slider_half_height_{0.0};  ///< [m]
   double bush_radius_{0.0}, pin_radius_{0.0};                 ///< [m]
 };
