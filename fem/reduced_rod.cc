@@ -409,8 +409,11 @@ ElongationSpace ReducedRod::Elongation() const {
   if (n == 0) return {Mat(ne, 0), Mat(0, ne)};
   const Eigen::JacobiSVD<Mat> svd(E, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Vec& sv = svd.singularValues();
+  // Elongations below 1e-8 of the basis's largest displacement per unit q are round-off (a
+  // free-free basis without axial modes has σ ≈ 1e-13 against 0.1 for an axial mode).
+  const double floor = 1e-8 * basis.cwiseAbs().maxCoeff();
   int r = 0;
-  while (r < sv.size() && sv[r] > 0.0 && sv[r] > 1e-9 * sv[0]) ++r;
+  while (r < sv.size() && sv[r] > floor && sv[r] > 1e-9 * sv[0]) ++r;
   ElongationSpace out;
   out.basis = svd.matrixU().leftCols(r);
   out.shortening_to_q =

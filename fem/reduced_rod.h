@@ -104,7 +104,8 @@ struct ReducedRod {
   /// = ½ ∫_e v'² dx is the shortening of the element's chord by its bending.
   double element_axial_stiffness{0.0};  ///< E A / L_e [N/m]
   /// The elongation fields δ(q) the basis carries (planar rods), from an SVD of E = ∂δ/∂q
-  /// (num_elements × n; δ_e = u_b − u_a of element e; relative threshold 1e-9).
+  /// (num_elements × n; δ_e = u_b − u_a of element e): singular values above 1e-9 of the
+  /// largest and above 1e-8 of the basis's largest entry (none for a basis without axial modes).
   ElongationSpace Elongation() const;
   Eigen::Matrix<double, 6, 6> element_Kg;  ///< planar frame K_G per newton of tension
   PlanarInertia inertia;

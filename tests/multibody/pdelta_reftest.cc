@@ -265,5 +265,16 @@ TEST(PDelta, DampingIgnoresTheShorteningOfTheBentRod) {
   }
 }
 
+// The elongation fields a basis carries: three for Craig–Bampton with its axial modes (the
+// small end's axial constraint mode, the two axial inertia-load modes), none for 8 free–free
+// modes, which are all bending: their elongations are round-off (σ ≈ 1e-13), and taking them
+// as fields made E⁺ huge and the strain damping stiff enough to stop the integrator.
+TEST(PDelta, ElongationFieldsAreThoseTheBasisCarries) {
+  EXPECT_EQ(Reduced(fem::ReductionMethod::kCraigBampton, 8, true)->Elongation().basis.cols(), 3);
+  const auto free = Reduced(fem::ReductionMethod::kFreeFree, 8, false);
+  EXPECT_EQ(free->Elongation().basis.cols(), 0);
+  EXPECT_EQ(free->Elongation().shortening_to_q.rows(), free->num_coordinates());
+}
+
 }  // namespace
 }  // namespace flexrod::multibody
