@@ -58,7 +58,7 @@ void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
 // h = Bᵀ g; with D = β K it is Kelvin–Voigt on the strains. Needs UpdateSecondOrderStrain's
 // K_G w_e.
 void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
-  const int ne = b.num_elements(), n = b.num_modes;
+  const int ne = b.num_elements();
   s->element_rate.noalias() = b.element_rows * qd;
   for (int e = 0; e < ne; ++e) {
     s->element_short_rate(e) =
@@ -72,7 +72,7 @@ void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
     s->element_kv.segment<6>(6 * e) = s->damping_h(e) * s->element_kgw.segment<6>(6 * e);
   }
   s->Dqd = s->damping_g;
-  s->Dqd.head(n).noalias() += b.element_rows.transpose() * s->element_kv;
+  s->Dqd.noalias() += b.element_rows.transpose() * s->element_kv;
 }
 
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each

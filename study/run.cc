@@ -280,10 +280,13 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
       // The second-order axial strain (rod.geometric_stiffening): the chord's shortening.
       const Mat membrane = cfg.Bool("rod.geometric_stiffening") ? rows.membrane : Mat();
       rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
-               [=](const SampleView& s, double* v) {
+               [=, work = Vec(n)](const SampleView& s, double* v) mutable {
                  const Eigen::Map<const Vec> q(s.y() + q0, n);
                  v[0] = strain_row.dot(q);
-                 if (membrane.size() > 0) v[0] += q.dot(membrane * q);
+                 if (membrane.size() > 0) {  // no allocation per sample: the product into work
+                   work.noalias() = membrane * q;
+                   v[0] += q.dot(work);
+                 }
                  v[1] = E * v[0];
                });
       (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};

@@ -209,7 +209,8 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
       if (membrane) axial_quadratic_[k] /= sides;
     }
   } else if (model.exact) {
-    // The exact rod's node bodies: placeholders here, drawn from their coordinates in Frame().
+    // The exact rod's node bodies: one layout point each; Frame() sets it from the body's
+    // coordinates (u0 = the node's place on the undeformed rod, no shape rows).
     const fem::RodSpec& rod = model.exact->rod;
     for (int k = 0; k < rod.num_nodes(); ++k)
       carried_.push_back({next++, Vec2(rod.node_x(k), 0.0), Mat2X(2, 0)});
