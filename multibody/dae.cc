@@ -24,55 +24,57 @@ using JacMap = Eigen::Map<Mat, 0, Eigen::OuterStride<>>;
 const double kFdStep = std::cbrt(std::numeric_limits<double>::epsilon());
 
 // ---- body level -------------------------------------------------------------------------------
-// The second-order axial strain (FlexibleBodySpec::geometric_stiffening): element forces
-// N_e K_G w_e + k (P s)_e d with N_e = k (δ_e + (P s)_e), s_e = ½ w_eᵀ K_G w_e, P = V Vᵀ,
-// d = (−1, 0, 0, 1, 0, 0), k = EA/L_e; F_g = Σ_e Φ_eᵀ (element force).
+// The second-order axial strain (FlexibleBodySpec::geometric_stiffening). Element e's strain
+// times its length is δ_e + (P s)_e: its elongation δ = E q and the projection P = V Vᵀ of the
+// chords' shortenings s_e = ½ w_eᵀ K_G w_e on the elongation fields the basis carries, with
+// w_e = T_e q its nodes' (v, θ). Its force N_e = k (δ_e + (P s)_e), k = EA/L_e, and
+// F_g = Σ_e N_e T_eᵀ K_G w_e + k Eᵀ P s (the gradient of ½ k Σ_e (δ_e + (P s)_e)² less ½ qᵀKq's
+// axial part, which K q already has). The element loops touch only the 2 (n_e + 1) nodal rows
+// of T, each product with T or E is one matrix-vector product.
 void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
   const double k = b.element_axial_stiffness;
   const int ne = b.num_elements();
-  s->element_dofs.noalias() = b.element_rows * q;
+  s->node_w.noalias() = b.transverse_rows * q;
   for (int e = 0; e < ne; ++e) {
-    const auto w = s->element_dofs.segment<6>(6 * e);
-    auto kw = s->element_kgw.segment<6>(6 * e);
+    const auto w = s->node_w.segment<4>(2 * e);
+    auto kw = s->element_kgw.segment<4>(4 * e);
     kw.noalias() = b.element_Kg * w;
     s->element_short(e) = 0.5 * w.dot(kw);  // ½ ∫_e v'² dx [m]
   }
   s->strain_coef.noalias() = b.element_strain_basis.transpose() * s->element_short;
   s->projected_short.noalias() = b.element_strain_basis * s->strain_coef;
+  s->element_force.noalias() = b.elongation_rows * q;
+  s->element_force = k * (s->element_force + s->projected_short);
+  s->node_force.setZero();
   for (int e = 0; e < ne; ++e) {
-    const auto w = s->element_dofs.segment<6>(6 * e);
-    const double ps = s->projected_short(e);
-    s->element_force(e) = k * (w[3] - w[0] + ps);
-    auto f = s->element_gq.segment<6>(6 * e);
-    f = s->element_force(e) * s->element_kgw.segment<6>(6 * e);
-    f[0] -= k * ps;
-    f[3] += k * ps;
+    s->node_force.segment<4>(2 * e) += s->element_force(e) * s->element_kgw.segment<4>(4 * e);
   }
-  s->Fg.noalias() = b.element_rows.transpose() * s->element_gq;
+  s->Fg.noalias() = b.transverse_rows.transpose() * s->node_force;
+  s->Fg.noalias() += b.elongation_rows.transpose() * (k * s->projected_short);
 }
 
 // Damping of the second-order strains (Body::strain_damping): D acts on the rates of the
 // strain-consistent coordinates q̃ = q + B s(q), whose elongations are the strains, E q̃ = δ + P s,
 // so the bent rod's shortening motion, which strains nothing, is not damped. With v = q̇ + B ṡ,
-// ṡ_e = (K_G w_e)ᵀ ẇ_e, the force is (I + B ∂s/∂q)ᵀ D v = g + Σ_e Φ_eᵀ K_G w_e h_e, g = D v,
+// ṡ_e = (K_G w_e)ᵀ ẇ_e, the force is (I + B ∂s/∂q)ᵀ D v = g + Σ_e T_eᵀ K_G w_e h_e, g = D v,
 // h = Bᵀ g; with D = β K it is Kelvin–Voigt on the strains. Needs UpdateSecondOrderStrain's
 // K_G w_e.
 void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
   const int ne = b.num_elements();
-  s->element_rate.noalias() = b.element_rows * qd;
+  s->node_wd.noalias() = b.transverse_rows * qd;
   for (int e = 0; e < ne; ++e) {
-    s->element_short_rate(e) =
-        s->element_kgw.segment<6>(6 * e).dot(s->element_rate.segment<6>(6 * e));
+    s->element_short_rate(e) = s->element_kgw.segment<4>(4 * e).dot(s->node_wd.segment<4>(2 * e));
   }
   s->strain_velocity = qd;
   s->strain_velocity.noalias() += b.shortening_to_q * s->element_short_rate;
   s->damping_g.noalias() = b.D * s->strain_velocity;
   s->damping_h.noalias() = b.shortening_to_q.transpose() * s->damping_g;
+  s->node_damping.setZero();
   for (int e = 0; e < ne; ++e) {
-    s->element_kv.segment<6>(6 * e) = s->damping_h(e) * s->element_kgw.segment<6>(6 * e);
+    s->node_damping.segment<4>(2 * e) += s->damping_h(e) * s->element_kgw.segment<4>(4 * e);
   }
   s->Dqd = s->damping_g;
-  s->Dqd.noalias() += b.element_rows.transpose() * s->element_kv;
+  s->Dqd.noalias() += b.transverse_rows.transpose() * s->node_damping;
 }
 
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
@@ -111,38 +113,36 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   s->Sqd.noalias() = b.Stilde * qd;
 }
 
-// ∂F_g/∂q = Σ_e Φ_eᵀ (N_e K_G + k (K_G w_e dᵀ + d (K_G w_e)ᵀ)) Φ_e + k H Hᵀ, with
-// H = Σ_e Φ_eᵀ K_G w_e V_e (n × r, V_e row e of V); and, with Kelvin–Voigt damping, A = Eᵀ V,
-// Ḣ = Σ_e Φ_eᵀ K_G ẇ_e V_e:
-//   ∂F_kv/∂q̇ = β k (A Hᵀ + H Aᵀ + H Hᵀ),
-//   ∂F_kv/∂q = β k (A Ḣᵀ + H Ḣᵀ + Σ_e (P ε̇)_e Φ_eᵀ K_G Φ_e).
+// Σ_e c_e T_eᵀ K_G T_e (n × n): the nodal rows Σ_e c_e K_G T_e, then one product with Tᵀ.
+void AddWeightedKg(const Body& b, const Vec& c, BodyScratch* s, Mat* out) {
+  s->node_kgt.setZero();
+  for (int e = 0; e < b.num_elements(); ++e) {
+    s->node_kgt.middleRows<4>(2 * e).noalias() +=
+        c(e) * (b.element_Kg * b.transverse_rows.middleRows<4>(2 * e));
+  }
+  out->noalias() += b.transverse_rows.transpose() * s->node_kgt;
+}
+
+// With S = ∂s/∂q (rows (K_G w_e)ᵀ T_e) and H = Sᵀ V:
+//   ∂F_g/∂q = Σ_e N_e T_eᵀ K_G T_e + k (Sᵀ E + Eᵀ S) + k H Hᵀ;
+// and with strain damping, C = I + B S, Ṡ (rows (K_G ẇ_e)ᵀ T_e):
+//   ∂F_d/∂q̇ = Cᵀ D C,  ∂F_d/∂q = Cᵀ D B Ṡ + Σ_e h_e T_eᵀ K_G T_e.
 void AddSecondOrderStrainJacobian(const Body& b, BodyScratch* s) {
   const double k = b.element_axial_stiffness;
   const int ne = b.num_elements();
-  const Mat& V = b.element_strain_basis;
   for (int e = 0; e < ne; ++e) {
-    const auto rows = b.element_rows.middleRows(6 * e, 6);
-    const Eigen::Matrix<double, 6, 1> kw = s->element_kgw.segment<6>(6 * e);
-    Eigen::Matrix<double, 6, 6> ke = s->element_force(e) * b.element_Kg;
-    ke.col(0) -= k * kw;  // k K_G w dᵀ
-    ke.col(3) += k * kw;
-    ke.row(0) -= k * kw.transpose();  // k d (K_G w)ᵀ
-    ke.row(3) += k * kw.transpose();
-    s->element_jac.middleRows(6 * e, 6).noalias() = ke * rows;
-    s->element_kwv.middleRows(6 * e, 6).noalias() = kw * V.row(e);
+    s->short_jac.row(e).noalias() =
+        s->element_kgw.segment<4>(4 * e).transpose() * b.transverse_rows.middleRows<4>(2 * e);
   }
-  s->Jg.noalias() = b.element_rows.transpose() * s->element_jac;
-  s->H.noalias() = b.element_rows.transpose() * s->element_kwv;
+  s->dmap.noalias() = k * (s->short_jac.transpose() * b.elongation_rows);  // k Sᵀ E
+  s->Jg = s->dmap + s->dmap.transpose();
+  s->H.noalias() = s->short_jac.transpose() * b.element_strain_basis;
   s->Jg.noalias() += k * (s->H * s->H.transpose());
+  AddWeightedKg(b, s->element_force, s, &s->Jg);
   if (!b.strain_damping) return;
-  // Damping (UpdateStrainDamping): with S = ∂s/∂q (rows (K_G w_e)ᵀ Φ_e), Ṡ (rows (K_G ẇ_e)ᵀ Φ_e),
-  // C = I + B S: ∂F_d/∂q̇ = Cᵀ D C, ∂F_d/∂q = Cᵀ D B Ṡ + Σ_e h_e Φ_eᵀ K_G Φ_e.
   for (int e = 0; e < ne; ++e) {
-    const auto rows = b.element_rows.middleRows(6 * e, 6);
-    s->short_jac.row(e).noalias() = s->element_kgw.segment<6>(6 * e).transpose() * rows;
-    const Eigen::Matrix<double, 6, 1> kwd = b.element_Kg * s->element_rate.segment<6>(6 * e);
-    s->short_rate_jac.row(e).noalias() = kwd.transpose() * rows;
-    s->element_jac.middleRows(6 * e, 6).noalias() = s->damping_h(e) * (b.element_Kg * rows);
+    const Eigen::Vector4d kwd = b.element_Kg * s->node_wd.segment<4>(2 * e);
+    s->short_rate_jac.row(e).noalias() = kwd.transpose() * b.transverse_rows.middleRows<4>(2 * e);
   }
   s->strain_map.setIdentity();
   s->strain_map.noalias() += b.shortening_to_q * s->short_jac;
@@ -152,7 +152,7 @@ void AddSecondOrderStrainJacobian(const Body& b, BodyScratch* s) {
   s->bsd.noalias() = b.shortening_to_q * s->short_rate_jac;
   s->dmap.noalias() = b.D * s->bsd;
   s->Jkv_q.noalias() = s->strain_map.transpose() * s->dmap;
-  s->Jkv_q.noalias() += b.element_rows.transpose() * s->element_jac;
+  AddWeightedKg(b, s->damping_h, s, &s->Jkv_q);
 }
 
 // M(θ, q), ffrf-planar.md "Mass matrix".

@@ -5,6 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -380,6 +381,15 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
     }
     RequirePositive(key + ".rod.element_axial_stiffness", rod.element_axial_stiffness);
     check_shape(rod.basis, rod.rod.num_dofs(), n, "basis");
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) {
+        if ((i % 3 == 0 || j % 3 == 0) && rod.element_Kg(i, j) != 0.0) {
+          throw InputError(key + ".rod.element_Kg",
+                           "entry (" + std::to_string(i) + ", " + std::to_string(j) + ") non-zero",
+                           "K_G acts on the transverse dofs (v, θ) only, not on u");
+        }
+      }
+    }
   }
   if (n > 0) {
     Eigen::LLT<Mat> llt(0.5 * (in.Mff + in.Mff.transpose()));
@@ -406,11 +416,25 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   b.geometric_stiffening = spec.geometric_stiffening && n > 0;
   b.element_Kg.setZero();
   if (b.geometric_stiffening) {
+    // Element e joins nodes e and e + 1 (dofs u, v, θ each): its elongation is a difference of
+    // u rows, its K_G acts on the (v, θ) rows of its two nodes, shared with its neighbours.
     const int ne = rod.rod.num_elements;
-    b.element_rows.resize(6 * ne, n);
-    for (int e = 0; e < ne; ++e) b.element_rows.middleRows(6 * e, 6) = rod.ElementBasisRows(e);
+    constexpr std::array<int, 4> kTransverse = {1, 2, 4, 5};
+    b.transverse_rows.resize(2 * (ne + 1), n);
+    b.elongation_rows.resize(ne, n);
+    for (int e = 0; e < ne; ++e) {
+      const auto rows = rod.ElementBasisRows(e);
+      b.elongation_rows.row(e) = rows.row(3) - rows.row(0);
+      b.transverse_rows.middleRows(2 * e, 2) = rows.middleRows(1, 2);
+      if (e == ne - 1) b.transverse_rows.middleRows(2 * e + 2, 2) = rows.middleRows(4, 2);
+    }
     b.element_axial_stiffness = rod.element_axial_stiffness;
-    b.element_Kg = 0.5 * (rod.element_Kg + rod.element_Kg.transpose());
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        b.element_Kg(i, j) = 0.5 * (rod.element_Kg(kTransverse[i], kTransverse[j]) +
+                                    rod.element_Kg(kTransverse[j], kTransverse[i]));
+      }
+    }
     const fem::ElongationSpace space = rod.Elongation();
     b.element_strain_basis = space.basis;
     b.shortening_to_q = space.shortening_to_q;

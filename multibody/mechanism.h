@@ -176,9 +176,12 @@ struct Body {
   // Elastic forces.
   Mat K;  ///< n×n
   bool geometric_stiffening{false};
-  Mat element_rows;  ///< [Φ_0; Φ_1; …] (6 num_elements × n), geometric stiffening only
-  double element_axial_stiffness{0.0};     ///< E A / L_e [N/m]
-  Eigen::Matrix<double, 6, 6> element_Kg;  ///< K_G per newton of tension [1/m]
+  // The second-order axial strain (geometric stiffening only). Element e joins nodes e and
+  // e + 1; its transverse dofs w_e = (v_e, θ_e, v_e+1, θ_e+1) = T_e q, T_e rows 2e … 2e + 3 of T.
+  Mat transverse_rows;  ///< T: the (v, θ) rows of Φ at every node (2 (num_elements + 1) × n)
+  Mat elongation_rows;  ///< E: elongations δ = E q (num_elements × n) [m]
+  double element_axial_stiffness{0.0};  ///< E A / L_e [N/m]
+  Eigen::Matrix4d element_Kg;           ///< K_G on w_e per newton of tension [1/m]
   /// V (num_elements × r), orthonormal columns spanning the elongation fields δ(q): P = V Vᵀ.
   Mat element_strain_basis;
   /// B = E⁺ P (n × num_elements), E = ∂δ/∂q: q̃ = q + B s(q) has the strains as elongations.
@@ -186,7 +189,7 @@ struct Body {
   /// D acts on q̃̇, not on q̇ (geometric stiffening with damping): the shortening of the bent
   /// rod, which strains nothing, is not damped.
   bool strain_damping{false};
-  int num_elements() const { return static_cast<int>(element_rows.rows() / 6); }
+  int num_elements() const { return static_cast<int>(elongation_rows.rows()); }
   Mat D;  ///< n×n damping
   DampingSpec damping;
   Vec modal_frequencies_hz;  ///< eigenfrequencies of (K, M_ff) [Hz] (empty if rigid)

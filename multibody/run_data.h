@@ -25,27 +25,27 @@ struct BodyScratch {
   Vec c;                   ///< Ī + S̃ q (n) [kg m]
   Vec Kq;                  ///< K q + F_g(q) (n) [N]
   Vec Fg;                  ///< F_g(q), the geometric-stiffness force (n) [N]
-  Vec element_dofs;        ///< Φ_e q stacked over the elements (6 num_elements) [m, rad]
-  Vec element_force;       ///< N_e(q) (num_elements) [N]
-  Vec element_kgw;         ///< K_G Φ_e q stacked (6 num_elements) [-]
-  Vec element_short;       ///< s_e = ½ w_eᵀ K_G w_e (num_elements) [m]
-  Vec projected_short;     ///< P s (num_elements) [m]
-  Vec strain_coef;         ///< Vᵀ s (r) [m]
-  Vec element_gq;          ///< element forces of F_g stacked (6 num_elements) [N]
-  Mat element_jac;         ///< element Jacobian rows (6 num_elements × n), Jacobian only
-  Mat element_kwv;         ///< K_G w_e V_e stacked (6 num_elements × r), Jacobian only
-  Mat H;                   ///< Σ_e Φ_eᵀ K_G w_e V_e (n × r), Jacobian only
-  Mat Jg;                  ///< ∂F_g/∂q (n × n), Jacobian only
+  // The second-order axial strain (Body::geometric_stiffening; dae.cc UpdateSecondOrderStrain).
+  Vec node_w;           ///< T q: (v, θ) of every node (2 (num_elements + 1)) [m, rad]
+  Vec element_kgw;      ///< K_G w_e stacked (4 num_elements) [-]
+  Vec element_short;    ///< s_e = ½ w_eᵀ K_G w_e (num_elements) [m]
+  Vec projected_short;  ///< P s (num_elements) [m]
+  Vec strain_coef;      ///< Vᵀ s (r) [m]
+  Vec element_force;    ///< N_e = k (δ_e + (P s)_e) (num_elements) [N]
+  Vec node_force;       ///< Σ_e N_e K_G w_e on the nodes' (v, θ) (2 (num_elements + 1)) [N]
+  Mat short_jac;        ///< S = ∂s/∂q (num_elements × n), Jacobian only
+  Mat node_kgt;         ///< Σ_e c_e K_G T_e (2 (num_elements + 1) × n), Jacobian only
+  Mat H;                ///< Sᵀ V (n × r), Jacobian only
+  Mat Jg;               ///< ∂F_g/∂q (n × n), Jacobian only
   // Damping of the second-order strains (Body::strain_damping).
-  Vec element_rate;        ///< Φ_e q̇ stacked (6 num_elements) [m/s, rad/s]
+  Vec node_wd;             ///< T q̇ (2 (num_elements + 1)) [m/s, rad/s]
   Vec element_short_rate;  ///< ṡ_e (num_elements) [m/s]
   Vec strain_velocity;     ///< v = q̇ + B ṡ (n)
   Vec damping_g;           ///< D v (n) [N]
   Vec damping_h;           ///< Bᵀ D v (num_elements) [N]
-  Vec element_kv;          ///< K_G w_e h_e stacked (6 num_elements) [N]
-  Mat short_jac;           ///< ∂s/∂q (num_elements × n), Jacobian only
-  Mat short_rate_jac;      ///< ∂ṡ/∂q (num_elements × n), Jacobian only
-  Mat strain_map;          ///< I + B ∂s/∂q (n × n), Jacobian only
+  Vec node_damping;        ///< Σ_e h_e K_G w_e on the nodes' (v, θ) (2 (num_elements + 1)) [N]
+  Mat short_rate_jac;      ///< Ṡ = ∂ṡ/∂q (num_elements × n), Jacobian only
+  Mat strain_map;          ///< C = I + B S (n × n), Jacobian only
   Mat dmap, bsd;           ///< n × n work, Jacobian only
   Mat Jkv_q, Jkv_qd;       ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n), Jacobian only
   Vec Dqd;                 ///< D q̇ (n) [N]

@@ -238,14 +238,18 @@ inline std::shared_ptr<fem::ReducedRod> MakeSyntheticRod(int n, int points, unsi
   Mat C(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) C(i, j) = U(gen);
-  // Geometric stiffness of a synthetic 3-element rod: random element rows and K_G.
+  // Geometric stiffness of a synthetic 3-element rod: random element rows and K_G (on the
+  // transverse dofs v, θ only, as the frame element's).
   rod->rod.num_elements = 3;
   rod->basis = Mat(rod->rod.num_dofs(), n);
   for (int i = 0; i < rod->basis.rows(); ++i)
     for (int j = 0; j < n; ++j) rod->basis(i, j) = 0.5 * U(gen);
   rod->element_axial_stiffness = 2e4;  // [N/m]
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) rod->element_Kg(i, j) = U(gen) + C(i % n, j % n);
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      rod->element_Kg(i, j) = i % 3 == 0 || j % 3 == 0 ? 0.0 : U(gen) + C(i % n, j % n);
+    }
+  }
   rod->element_Kg = 5.0 * (rod->element_Kg + rod->element_Kg.transpose()).eval();
   rod->frequencies_hz = Vec::Zero(n);
   if (cloud_out != nullptr) *cloud_out = cloud;
