@@ -75,19 +75,24 @@ using TwinCsvs = std::map<const study::TimeSeries*, std::string>;
 /// runs at these too).
 const std::vector<std::string> kStudyTolerances = {"sim.rel_tol=1e-8", "sim.abs_tol=1e-10"};
 
-/// One case of a study: the rigid-rig preset with the given overrides, written to dir/<tag>.
-std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag,
-                                 const std::vector<std::string>& sets, TwinCache* twins,
-                                 TwinCsvs* twin_csvs) {
+/// A case of a rigid-rig study: the rigid-rig preset with the case's and the user's overrides,
+/// checked as a run would check it (InputError before any run or file).
+Config CaseConfig(const StudyOptions& opt, const std::vector<std::string>& sets) {
   Config cfg;
   cfg.LoadToml(FindPreset("rigid-rig")->toml, "rigid-rig");
   for (const std::string& s : kStudyTolerances) cfg.SetAssignment(s);
   for (const std::string& s : sets) cfg.SetAssignment(s);
   for (const std::string& s : opt.sets) cfg.SetAssignment(s);
+  CheckRunInput(cfg, BuildMechanism(cfg, nullptr));
+  return cfg;
+}
+
+/// One case of a study, run and written to dir/<tag>.
+std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag, const Config& cfg,
+                                 TwinCache* twins, TwinCsvs* twin_csvs) {
   const auto t0 = std::chrono::steady_clock::now();
   RunOutputOptions outputs;
-  outputs.twins =
-      twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
+  outputs.twins = twins;
   const RunResult r = RunSimulation(cfg, nullptr, false, outputs);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string dir = opt.out_dir + "/" + tag;
@@ -206,7 +211,7 @@ int RunReductionStudy(const StudyOptions& opt) {
     Config cfg = base;
     for (const std::string& s : v.sets) cfg.SetAssignment(s);
     cfg.Resolve();
-    BuildMechanism(cfg, nullptr);  // rod, joint, drive and damping keys: InputError before any run
+    CheckRunInput(cfg, BuildMechanism(cfg, nullptr));  // InputError before any run
     configs.push_back(cfg);
   }
   EnsureDirectory("--out", opt.out_dir);
@@ -273,6 +278,38 @@ int RunReductionStudy(const StudyOptions& opt) {
 
 int RunStudy(const StudyOptions& opt) {
   if (opt.name == "reduction") return RunReductionStudy(opt);
+  struct Case {
+    std::string tag;
+    std::vector<std::string> row, sets;
+  };
+  std::vector<Case> cases;
+  std::string title;
+  std::vector<std::string> header;
+  if (opt.name == "rigid-rig-laws") {
+    title = "Rigid rig, 1 mm clearance: every normal law (thesis section 3.3)";
+    header = {"law", "speed [rpm]"};
+    for (const std::string& law : contact::NormalLawNames()) {
+      for (const char* rpm : {"101", "177"}) {
+        cases.push_back({law + "-" + rpm + "rpm",
+                         {law, rpm},
+                         {"joint.type=clearance", "joint.clearance=1 mm", "joint.law=" + law,
+                          "drive.speed=" + std::string(rpm) + " rpm"}});
+      }
+    }
+  } else {
+    title = "Rigid rig: clearance x joint friction (thesis section 3.4, Fig. 39)";
+    header = {"clearance [mm]", "friction [-]"};
+    for (const char* c : {"0.5", "1.0"}) {
+      for (const char* mu : {"0.2", "0.4", "0.6"}) {
+        cases.push_back({std::string("c") + c + "mm-mu" + mu,
+                         {c, mu},
+                         {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
+                          std::string("joint.friction=") + mu}});
+      }
+    }
+  }
+  std::vector<Config> configs;  // every case's input checked before any run or file
+  for (const Case& c : cases) configs.push_back(CaseConfig(opt, c.sets));
   EnsureDirectory("--out", opt.out_dir);
   const std::vector<std::string> cols = {"outcome",
                                          "peak abs slider acc. [m/s^2]",
@@ -283,46 +320,17 @@ int RunStudy(const StudyOptions& opt) {
                                          "peak bearing force [N]",
                                          "wall [s]"};
   std::vector<std::vector<std::string>> rows;
-  TwinCache twins;
+  TwinCache twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
   TwinCsvs twin_csvs;
-  if (opt.name == "rigid-rig-laws") {
-    for (const std::string& law : contact::NormalLawNames()) {
-      for (const char* rpm : {"101", "177"}) {
-        const std::string tag = law + "-" + rpm + "rpm";
-        std::fprintf(stderr, "study: %s\n", tag.c_str());
-        std::vector<std::string> row = {law, rpm};
-        const auto res = RunCase(opt, tag,
-                                 {"joint.type=clearance", "joint.clearance=1 mm",
-                                  "joint.law=" + law, "drive.speed=" + std::string(rpm) + " rpm"},
-                                 &twins, &twin_csvs);
-        row.insert(row.end(), res.begin(), res.end());
-        rows.push_back(row);
-      }
-    }
-    std::vector<std::string> header = {"law", "speed [rpm]"};
-    header.insert(header.end(), cols.begin(), cols.end());
-    WriteTables(opt.out_dir, "Rigid rig, 1 mm clearance: every normal law (thesis section 3.3)",
-                header, rows);
-  } else {
-    for (const char* c : {"0.5", "1.0"}) {
-      for (const char* mu : {"0.2", "0.4", "0.6"}) {
-        const std::string tag = std::string("c") + c + "mm-mu" + mu;
-        std::fprintf(stderr, "study: %s\n", tag.c_str());
-        std::vector<std::string> row = {c, mu};
-        const auto res =
-            RunCase(opt, tag,
-                    {"joint.type=clearance", std::string("joint.clearance=") + c + " mm",
-                     std::string("joint.friction=") + mu},
-                    &twins, &twin_csvs);
-        row.insert(row.end(), res.begin(), res.end());
-        rows.push_back(row);
-      }
-    }
-    std::vector<std::string> header = {"clearance [mm]", "friction [-]"};
-    header.insert(header.end(), cols.begin(), cols.end());
-    WriteTables(opt.out_dir, "Rigid rig: clearance x joint friction (thesis section 3.4, Fig. 39)",
-                header, rows);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    std::fprintf(stderr, "study: %s\n", cases[i].tag.c_str());
+    std::vector<std::string> row = cases[i].row;
+    const auto res = RunCase(opt, cases[i].tag, configs[i], &twins, &twin_csvs);
+    row.insert(row.end(), res.begin(), res.end());
+    rows.push_back(row);
   }
+  header.insert(header.end(), cols.begin(), cols.end());
+  WriteTables(opt.out_dir, title, header, rows);
   if (!opt.no_plot) RunPlotScript({"study", opt.out_dir});
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "common/error.h"
@@ -36,7 +37,9 @@ const ParamDef& Lookup(const std::string& key) {
     for (const ParamDef& q : Schema()) {
       if (q.key.rfind(section + ".", 0) == 0) near.push_back(q.key);
     }
-    throw InputError(key, "(any)", near.empty() ? "unknown key" : "unknown key; known in this section: " + Join(near));
+    throw InputError(
+        key, "(any)",
+        near.empty() ? "unknown key" : "unknown key; known in this section: " + Join(near));
   }
   return *p;
 }
@@ -50,6 +53,10 @@ void CheckValue(const ParamDef& p, const std::string& text) {
     case ParamKind::kInteger: {
       const double v = ParseQuantity(p.key, text, Dimension::kDimensionless);
       if (v != std::floor(v)) throw InputError(p.key, text, "must be an integer");
+      // Every integer key counts something (elements, modes, revolutions): 10⁹ is far beyond
+      // any of their own limits, and keeps the conversion to int defined.
+      if (std::abs(v) > 1e9)
+        throw InputError(p.key, text, "must be an integer of at most 1e9 in magnitude");
       return;
     }
     case ParamKind::kBool:
@@ -85,7 +92,8 @@ std::string NodeText(const toml::node& node, const std::string& key) {
 
 void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
   for (const auto& [k, v] : t) {
-    const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    const std::string key =
+        prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
     if (const toml::table* sub = v.as_table()) {
       Flatten(*sub, key, cfg);
     } else {
@@ -120,7 +128,8 @@ void Config::SetAssignment(const std::string& assignment) {
     throw InputError("--set", assignment, "must have the form key=value");
   }
   std::string value = assignment.substr(eq + 1);
-  if (value.size() >= 2 && value.front() == '"' && value.back() == '"') value = value.substr(1, value.size() - 2);
+  if (value.size() >= 2 && value.front() == '"' && value.back() == '"')
+    value = value.substr(1, value.size() - 2);
   Set(assignment.substr(0, eq), value);
 }
 
@@ -130,7 +139,8 @@ void Config::LoadToml(const std::string& toml_text, const std::string& origin) {
     t = toml::parse(toml_text, origin);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
-    os << e.description() << " at line " << e.source().begin.line << ", column " << e.source().begin.column;
+    os << e.description() << " at line " << e.source().begin.line << ", column "
+       << e.source().begin.column;
     throw InputError(origin, "(file)", "malformed TOML: " + os.str());
   }
   Flatten(t, "", this);
@@ -153,7 +163,16 @@ std::string Config::Raw(const std::string& key) const {
 double Config::Quantity(const std::string& key) const {
   const ParamDef& p = Lookup(key);
   FLEXROD_ASSERT(p.kind == ParamKind::kQuantity);
-  return ParseQuantity(key, Raw(key), p.dim);
+  const double v = ParseQuantity(key, Raw(key), p.dim);
+  // The angle keys are crank angles, reduced to [0, 2π): a crank at 1e12 deg stands where its
+  // remainder puts it, and an unreduced angle would make the integrator's relative tolerance
+  // on θ meaningless (and the revolution count exceed a double's integers).
+  if (p.dim == Dimension::kAngle) {
+    constexpr double kTwoPi = 2.0 * std::numbers::pi;
+    const double w = std::fmod(v, kTwoPi);
+    return w < 0.0 ? (w + kTwoPi < kTwoPi ? w + kTwoPi : 0.0) : w;
+  }
+  return v;
 }
 
 int Config::Integer(const std::string& key) const {
@@ -174,7 +193,7 @@ std::vector<Config::Resolved> Config::Resolve() const {
     if (p.kind == ParamKind::kQuantity) {
       std::ostringstream os;
       os.precision(12);
-      os << ParseQuantity(p.key, raw, p.dim);
+      os << Quantity(p.key);
       r.value = os.str();
       r.unit = SiUnit(p.dim);
     } else if (p.kind == ParamKind::kInteger) {
@@ -190,7 +209,8 @@ std::vector<Config::Resolved> Config::Resolve() const {
 
 std::string Config::ResolvedToml(const DerivedNotes& notes) const {
   std::ostringstream os;
-  os << "# flexrod resolved input: every key, SI values; '# default' marks values not set by the user\n";
+  os << "# flexrod resolved input: every key, SI values; '# default' marks values not set by the "
+        "user\n";
   // Group keys by section (a TOML table may appear only once), sections in schema order.
   std::vector<Resolved> all = Resolve();
   std::vector<std::string> order;
@@ -200,7 +220,8 @@ std::string Config::ResolvedToml(const DerivedNotes& notes) const {
   }
   std::stable_sort(all.begin(), all.end(), [&](const Resolved& a, const Resolved& b) {
     auto rank = [&](const Resolved& r) {
-      return std::find(order.begin(), order.end(), r.key.substr(0, r.key.rfind('.'))) - order.begin();
+      return std::find(order.begin(), order.end(), r.key.substr(0, r.key.rfind('.'))) -
+             order.begin();
     };
     return rank(a) < rank(b);
   });
@@ -221,7 +242,8 @@ std::string Config::ResolvedToml(const DerivedNotes& notes) const {
     const ParamDef* p = FindParam(r.key);
     const bool quoted = p->kind == ParamKind::kChoice || p->kind == ParamKind::kText;
     os << r.key.substr(dot + 1) << " = " << (quoted ? "\"" + r.value + "\"" : r.value);
-    os << "  # " << (r.unit.empty() ? "" : "[" + r.unit + "] ") << (r.is_default ? "default" : "set");
+    os << "  # " << (r.unit.empty() ? "" : "[" + r.unit + "] ")
+       << (r.is_default ? "default" : "set");
     const auto note = notes.beside.find(r.key);
     if (note != notes.beside.end()) os << "; " << note->second;
     os << "\n";

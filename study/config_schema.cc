@@ -230,7 +230,7 @@ const std::vector<ParamDef>& Schema() {
        "voltage is set to (the mean speed droops under load)"},
       {"drive.profile", K::kText, D::kDimensionless, "",
        "speed profile: comma-separated time:speed pairs in s and rpm, e.g. \"0:0,0.5:200\""},
-      {"drive.initial_angle", K::kQuantity, D::kAngle, "0 deg", "crank angle at t = 0 [rad]"},
+      {"drive.initial_angle", K::kQuantity, D::kAngle, "0 deg", "crank angle at t = 0 [rad], reduced to [0, 2 pi)"},
       {"motor.stall_torque", K::kQuantity, D::kTorque, "20 N m",
        "DC motor stall torque at the motor shaft at rated armature voltage [N m] (assumed for 0.75 "
        "hp)"},
@@ -279,7 +279,7 @@ const std::vector<ParamDef>& Schema() {
       {"sim.capture", K::kQuantity, D::kTime, "3 s", "captured duration [s], > 0 (RIG.md Table 2)"},
       {"sim.sample_rate", K::kQuantity, D::kFrequency, "100 kHz", "output sample rate [Hz], > 0"},
       {"sim.index_angle", K::kQuantity, D::kAngle, "0 deg",
-       "crank index angle that triggers capture [rad]"},
+       "crank index angle that triggers capture [rad], reduced to [0, 2 pi)"},
       {"sim.rel_tol", K::kQuantity, D::kDimensionless, "1e-6",
        "integrator relative tolerance (of the frame coordinates that move a clearance joint: "
        "relative to the clearance)"},

@@ -180,6 +180,32 @@ study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& 
   return out;
 }
 
+/// The rod node nearest to output.midspan (0 = midspan); InputError unless it lies on the rod.
+int ProbeNode(const Config& cfg, const fem::RodSpec& rod) {
+  double x = cfg.Quantity("output.midspan");
+  if (!(x >= 0.0 && x <= rod.length)) {
+    throw InputError("output.midspan", FormatValue(x) + " m",
+                     "must lie on the rod, 0 <= x <= rod.length = " + FormatValue(rod.length) +
+                         " m (0 = midspan)");
+  }
+  if (x == 0.0) x = 0.5 * rod.length;
+  return static_cast<int>(std::lround(x / rod.element_length()));
+}
+
+/// output.gauges [m]; InputError unless every position lies on the rod.
+std::vector<double> GaugePositions(const Config& cfg, const fem::RodSpec& rod) {
+  const std::vector<double> xs =
+      ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
+  for (const double x : xs) {
+    if (!(x >= 0.0 && x <= rod.length)) {
+      throw InputError(
+          "output.gauges", FormatValue(x) + " m",
+          "must lie on the rod, 0 <= x <= rod.length = " + FormatValue(rod.length) + " m");
+    }
+  }
+  return xs;
+}
+
 /// The run's channels. `impacts` (clearance runs) also sees the contact at every sample.
 void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
                     nlohmann::json* gauges_json, study::ImpactLogger* impacts) {
@@ -256,10 +282,8 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
     const fem::ReducedRod& rod = *mm.rod;
     const int n = rod.num_coordinates();
     const int q0 = m.coordinate(conrod, multibody::kFirstMode);
-    // Deflection probe: node nearest to output.midspan (0 = midspan), relative to the chord.
-    double x_probe = cfg.Quantity("output.midspan");
-    if (x_probe <= 0.0) x_probe = 0.5 * rod.rod.length;
-    const int probe = static_cast<int>(std::lround(x_probe / rod.rod.element_length()));
+    // Deflection probe: node nearest to output.midspan, relative to the chord.
+    const int probe = ProbeNode(cfg, rod.rod);
     const int last = rod.rod.num_nodes() - 1;
     const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
     rec->Add({{"rod_deflection", "m"}}, [=](const SampleView& s, double* v) {
@@ -271,8 +295,7 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
     });
     const double E = rod.rod.material.youngs_modulus;
     const double y = rod.rod.section.half_depth_in_plane();
-    const std::vector<double> xs =
-        ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
+    const std::vector<double> xs = GaugePositions(cfg, rod.rod);
     for (size_t g = 0; g < xs.size(); ++g) {
       const std::string name = "gauge" + std::to_string(g + 1);
       const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
@@ -305,21 +328,14 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
     // The exact rod (rod.type = exact): deflection and gauges from its node bodies.
     exact = std::make_shared<const study::ExactRodView>(m, *mm.exact);
     const fem::RodSpec& rod = mm.exact->rod;
-    double x_probe = cfg.Quantity("output.midspan");
-    if (x_probe <= 0.0) x_probe = 0.5 * rod.length;
-    const int probe = static_cast<int>(std::lround(x_probe / rod.element_length()));
+    const int probe = ProbeNode(cfg, rod);
     rec->Add({{"rod_deflection", "m"}},
              [=](const SampleView& s, double* v) { v[0] = exact->Deflection(s.y(), probe); });
     const double E = rod.material.youngs_modulus;
     const double y = rod.section.half_depth_in_plane();
-    const std::vector<double> xs =
-        ParseList("output.gauges", cfg.Text("output.gauges"), Dimension::kLength);
+    const std::vector<double> xs = GaugePositions(cfg, rod);
     for (size_t g = 0; g < xs.size(); ++g) {
       const std::string name = "gauge" + std::to_string(g + 1);
-      if (!(xs[g] >= 0.0 && xs[g] <= rod.length)) {
-        throw InputError("output.gauges", FormatValue(xs[g]) + " m",
-                         "must lie on the rod, 0 <= x <= rod.length");
-      }
       const double x = xs[g];
       rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
                [=](const SampleView& s, double* v) {
@@ -363,6 +379,48 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
   o.integrator.Validate();
   return o;
 }
+
+}  // namespace
+
+void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
+  const multibody::SimulationOptions opt = OptionsFromConfig(cfg);
+  const double settle = cfg.Quantity("sim.settle");
+  const double capture = cfg.Quantity("sim.capture");
+  RequireNonNegative("sim.settle", settle);
+  RequirePositive("sim.capture", capture);
+  if (!(capture * opt.sample_rate >= 2.0)) {
+    throw InputError(
+        "sim.capture", FormatValue(capture) + " s",
+        "must hold at least 2 samples at sim.sample_rate = " + FormatValue(opt.sample_rate) +
+            " Hz (>= " + FormatValue(2.0 / opt.sample_rate) + " s)");
+  }
+  const std::string start = cfg.Text("sim.start");
+  const int max_revolutions = cfg.Integer("sim.steady_revolutions");
+  if (max_revolutions < 2) {
+    throw InputError("sim.steady_revolutions", std::to_string(max_revolutions),
+                     "must be >= 2 (two revolutions are the least that can repeat)");
+  }
+  if (start == "steady" && (mm.is_pendulum || !(mm.rod || mm.exact))) {
+    throw InputError(
+        "sim.start", "steady",
+        "needs a slider-crank with a flexible rod: the periodic steady state is found on the "
+        "rod's elastic state at the crank index; use sim.settle instead");
+  }
+  if (start == "steady" && cfg.Text("drive.type") != "constant") {
+    throw InputError(
+        "sim.start", "steady",
+        "needs drive.type = constant (a periodic state has the crank's period; a motor's speed "
+        "droops and fluctuates, a profile changes it); use sim.settle instead");
+  }
+  const fem::RodSpec* rod = mm.rod ? &mm.rod->rod : mm.exact ? &mm.exact->rod : nullptr;
+  if (rod != nullptr) {
+    (void)ProbeNode(cfg, *rod);
+    (void)GaugePositions(cfg, *rod);
+  }
+  (void)ReadCsvSelection(cfg, opt.sample_rate, nullptr);
+}
+
+namespace {
 
 /// The integrator's status and counters; with `profiled` (RunOutputOptions::profile) also the
 /// wall time of its residuals, Jacobians and linear solves.
@@ -505,29 +563,12 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
+  CheckRunInput(cfg, mm);
   multibody::SimulationOptions opt = OptionsFromConfig(cfg);
   const double settle = cfg.Quantity("sim.settle");
   const double capture = cfg.Quantity("sim.capture");
-  RequireNonNegative("sim.settle", settle);
-  RequirePositive("sim.capture", capture);
   const std::string start = cfg.Text("sim.start");
   const int max_revolutions = cfg.Integer("sim.steady_revolutions");  // of a steady start's search
-  if (max_revolutions < 2) {
-    throw InputError("sim.steady_revolutions", std::to_string(max_revolutions),
-                     "must be >= 2 (two revolutions are the least that can repeat)");
-  }
-  if (start == "steady" && (mm.is_pendulum || !(mm.rod || mm.exact))) {
-    throw InputError(
-        "sim.start", "steady",
-        "needs a slider-crank with a flexible rod: the periodic steady state is found on the "
-        "rod's elastic state at the crank index; use sim.settle instead");
-  }
-  if (start == "steady" && cfg.Text("drive.type") != "constant") {
-    throw InputError(
-        "sim.start", "steady",
-        "needs drive.type = constant (a periodic state has the crank's period; a motor's speed "
-        "droops and fluctuates, a profile changes it); use sim.settle instead");
-  }
 
   multibody::InitialConditionSpec ic;
   ic.coordinates = mm.p0;

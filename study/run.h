@@ -10,38 +10,43 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "common/once_cache.h"
 #include "multibody/simulate.h"
 #include "study/config.h"
-#include "study/slider_crank.h"
 #include "study/impact_log.h"
 #include "study/signals.h"
+#include "study/slider_crank.h"
 #include "study/timeseries.h"
 #include "study/vtk.h"
 
 namespace flexrod {
 
 struct RunResult {
-  study::TimeSeries channels{1.0, 0.0};   ///< the captured window (rig sample rate)
+  study::TimeSeries channels{1.0, 0.0};  ///< the captured window (rig sample rate)
   multibody::SimulationStatus status;
-  nlohmann::json summary;                 ///< peaks, RMS, statistics, energy, wall time,
-                                          ///< and load_amplification for clearance runs
+  nlohmann::json summary;  ///< peaks, RMS, statistics, energy, wall time,
+                           ///< and load_amplification for clearance runs
   /// The ideal-joint twin's channels (clearance runs; shared with other runs when the twin
   /// came from a TwinCache).
   std::shared_ptr<const study::TimeSeries> ideal;
   /// Slider-cranks: slider_acceleration and bearing_force over the capture and its complete
   /// revolutions (summary "slider_acceleration"; the load amplification's inputs).
   std::optional<study::SignalSummary> slider_acceleration, bearing_force;
-  std::vector<study::Impact> impacts;     ///< impact log of the captured window (clearance runs)
-  std::optional<study::VtkSeries> vtk;    ///< ParaView frames of the captured window, if requested
-  std::string vtk_collection;             ///< path of the written .pvd, "" if none was written
+  std::vector<study::Impact> impacts;   ///< impact log of the captured window (clearance runs)
+  std::optional<study::VtkSeries> vtk;  ///< ParaView frames of the captured window, if requested
+  std::string vtk_collection;           ///< path of the written .pvd, "" if none was written
   bool ok() const { return status.ok(); }
 };
+
+/// Checks every input a run of `mm` (BuildMechanism(cfg, ...)) reads beyond the mechanism's
+/// own keys: sim.* (tolerances, settle, a capture of at least 2 samples, the start), the probe
+/// and gauge positions on the rod, the output.* selection. Throws InputError naming the key,
+/// the value and the rule. Sweeps and studies call it for every run before any run starts.
+void CheckRunInput(const Config& cfg, const MechanismModel& mm);
 
 /// What a clearance run's ideal-joint twin depends on: every resolved input except the
 /// small-end joint's keys (joint.*), since the twin's joint is ideal. Runs with equal keys (a
@@ -56,8 +61,8 @@ class TwinCache {
  public:
   explicit TwinCache(std::size_t keep = 4) : twins_(std::max<std::size_t>(keep, 4)) {}
   /// The twin run of `cfg`, from compute() if no run asked for its key (or it was evicted).
-  std::shared_ptr<const RunResult> Get(const Config& cfg,
-                                       const std::function<std::shared_ptr<const RunResult>()>& compute);
+  std::shared_ptr<const RunResult> Get(
+      const Config& cfg, const std::function<std::shared_ptr<const RunResult>()>& compute);
   int num_computed() const { return static_cast<int>(twins_.num_computed()); }
 
  private:

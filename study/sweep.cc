@@ -63,7 +63,7 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
     } catch (const NumericalError&) {
       continue;  // recorded as a failure by the runs of this rod
     }
-    (void)BuildMechanism(cfg, rod);
+    CheckRunInput(cfg, BuildMechanism(cfg, rod));
     if (!probed.insert(ProbeKey(cfg)).second) continue;
     Config probe = cfg;
     const double rate = cfg.Quantity("sim.sample_rate");

@@ -4,12 +4,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -26,7 +25,8 @@ int Flexrod(const std::string& args) {
 }
 
 fs::path TempDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("flexrod_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::path p =
+      fs::temp_directory_path() / ("flexrod_cli_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
 }
@@ -41,10 +41,13 @@ void ExpectExitTwoAndNoOutput(const std::string& name, const std::vector<std::st
 }
 
 TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
-  for (const std::string preset : {"flexible-rig", "rigid-rig", "simeon-crank", "flexible-pendulum"}) {
+  for (const std::string preset :
+       {"flexible-rig", "rigid-rig", "simeon-crank", "flexible-pendulum"}) {
     const fs::path out = TempDir(preset);
-    const int rc = Flexrod("run " + preset + " --no-plot --set sim.settle=0.01s --set sim.capture=0.02s "
-                       "--set sim.sample_rate=2kHz --out " + out.string());
+    const int rc = Flexrod("run " + preset +
+                           " --no-plot --set sim.settle=0.01s --set sim.capture=0.02s "
+                           "--set sim.sample_rate=2kHz --out " +
+                           out.string());
     EXPECT_EQ(rc, 0) << preset;
     EXPECT_TRUE(fs::exists(out / "channels.csv")) << preset;
     EXPECT_TRUE(fs::exists(out / "resolved.toml")) << preset;
@@ -61,8 +64,10 @@ TEST(RunCli, TheTwinsWarningsAreShown) {
   const fs::path out = TempDir("twin_warning");
   const fs::path err = TempDir("twin_warning_stderr");
   const std::string cmd = std::string(FLEXROD_BINARY) +
-                          " run rigid-rig --no-plot --set sim.rel_tol=1e-2 --set sim.settle=0.1s --set sim.capture=0.4s "
-                          "--set sim.sample_rate=2kHz --out " + out.string() + " >/dev/null 2>" + err.string();
+                          " run rigid-rig --no-plot --set sim.rel_tol=1e-2 --set sim.settle=0.1s "
+                          "--set sim.capture=0.4s "
+                          "--set sim.sample_rate=2kHz --out " +
+                          out.string() + " >/dev/null 2>" + err.string();
   ASSERT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 0);
   std::ifstream in(out / "summary.json");
   const nlohmann::json s = nlohmann::json::parse(in);
@@ -70,7 +75,9 @@ TEST(RunCli, TheTwinsWarningsAreShown) {
   std::ifstream e(err);
   const std::string text((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
   for (const auto& w : s["ideal"]["warnings"]) {
-    EXPECT_NE(text.find("flexrod: warning: ideal-joint twin: " + w.get<std::string>()), std::string::npos) << text;
+    EXPECT_NE(text.find("flexrod: warning: ideal-joint twin: " + w.get<std::string>()),
+              std::string::npos)
+        << text;
   }
   fs::remove_all(out);
   fs::remove(err);
@@ -78,8 +85,11 @@ TEST(RunCli, TheTwinsWarningsAreShown) {
 
 TEST(RunCli, ExampleFilesRunAsInputFiles) {
   const fs::path out = TempDir("file");
-  EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) + "/examples/rigid-rig.toml --no-plot "
-                "--set sim.settle=0s --set sim.capture=0.02s --out " + out.string()), 0);
+  EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) +
+                    "/examples/rigid-rig.toml --no-plot "
+                    "--set sim.settle=0s --set sim.capture=0.02s --out " +
+                    out.string()),
+            0);
   fs::remove_all(out);
 }
 
@@ -87,9 +97,9 @@ TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
   const fs::path bad_toml = TempDir("bad_toml");
   fs::create_directories(bad_toml);
   std::ofstream(bad_toml / "x.toml") << "[rod\nheight = ";
-  ExpectExitTwoAndNoOutput("bad", {"run --set rod.colour=red", "run --set rod.height=-3mm",
-                                   "run --set drive.speed=fast", "run no-such-preset",
-                                   "run " + (bad_toml / "x.toml").string()});
+  ExpectExitTwoAndNoOutput(
+      "bad", {"run --set rod.colour=red", "run --set rod.height=-3mm", "run --set drive.speed=fast",
+              "run no-such-preset", "run " + (bad_toml / "x.toml").string()});
   fs::remove_all(bad_toml);
 }
 
@@ -102,7 +112,8 @@ TEST(ModesCli, JsonHasTheDocumentedKeys) {
   const nlohmann::json j = nlohmann::json::parse(in);
   ASSERT_TRUE(j.contains("modes"));
   ASSERT_GE(j["modes"].size(), 9u);
-  for (const char* key : {"full_hz", "reduced_hz", "rel_error", "mac", "effective_mass", "rigid_body"}) {
+  for (const char* key :
+       {"full_hz", "reduced_hz", "rel_error", "mac", "effective_mass", "rigid_body"}) {
     EXPECT_TRUE(j["modes"][0].contains(key)) << key;
   }
   // Craig–Bampton frequencies are upper bounds; the first modes are accurate.
@@ -118,9 +129,9 @@ TEST(ModesCli, BadFlagsExitWithTwoAndWriteNothing) {
   const fs::path dir = TempDir("modes_bad");
   fs::create_directories(dir);
   const fs::path json = dir / "m.json";
-  for (const std::string args : {"--height -3mm", "--material unobtainium", "--E abc", "--modes 5000",
-                                 "--elements 0", "--bc glued", "--reduction magic", "--interface 999",
-                                 "--length \"3 kg\""}) {
+  for (const std::string args :
+       {"--height -3mm", "--material unobtainium", "--E abc", "--modes 5000", "--elements 0",
+        "--bc glued", "--reduction magic", "--interface 999", "--length \"3 kg\""}) {
     EXPECT_EQ(Flexrod("modes " + args + " --json " + json.string()), 2) << args;
     EXPECT_FALSE(fs::exists(json)) << args;
   }
@@ -131,7 +142,8 @@ TEST(ModesCli, FreeFreeReportsRigidBodyModes) {
   const fs::path dir = TempDir("modes_ff");
   fs::create_directories(dir);
   const fs::path json = dir / "m.json";
-  ASSERT_EQ(Flexrod("modes --bc free-free --reduction free-free --modes 4 --json " + json.string()), 0);
+  ASSERT_EQ(Flexrod("modes --bc free-free --reduction free-free --modes 4 --json " + json.string()),
+            0);
   std::ifstream in(json);
   const nlohmann::json j = nlohmann::json::parse(in);
   int rigid = 0;
@@ -146,9 +158,11 @@ namespace {
 
 TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
   const fs::path out = TempDir("study");
-  ASSERT_EQ(Flexrod("study rigid-rig-friction --no-plot --set sim.settle=0s --set sim.capture=0.05s "
-                    "--set sim.sample_rate=5kHz --out " + out.string()),
-            0);
+  ASSERT_EQ(
+      Flexrod("study rigid-rig-friction --no-plot --set sim.settle=0s --set sim.capture=0.05s "
+              "--set sim.sample_rate=5kHz --out " +
+              out.string()),
+      0);
   std::ifstream in(out / "table.csv");
   std::string line, header;
   int rows = 0;
@@ -156,24 +170,33 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
     if (rows++ == 0) header = line;
   }
   EXPECT_EQ(rows, 1 + 6);  // header + clearance {0.5, 1.0} × friction {0.2, 0.4, 0.6}
-  EXPECT_NE(header.find("median per-rev. peak abs slider acc. [m/s^2]"), std::string::npos) << header;
+  EXPECT_NE(header.find("median per-rev. peak abs slider acc. [m/s^2]"), std::string::npos)
+      << header;
   EXPECT_TRUE(fs::exists(out / "table.md"));
   EXPECT_TRUE(fs::exists(out / "c1.0mm-mu0.6" / "summary.json"));
   // Study cases run at the study's tolerances (app/cmd_study.cc, kStudyTolerances).
   std::ifstream resolved(out / "c1.0mm-mu0.6" / "resolved.toml");
-  const std::string text((std::istreambuf_iterator<char>(resolved)), std::istreambuf_iterator<char>());
+  const std::string text((std::istreambuf_iterator<char>(resolved)),
+                         std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("rel_tol = 1e-08"), std::string::npos);
   EXPECT_NE(text.find("abs_tol = 1e-10"), std::string::npos);
   // The six cases share one ideal twin: its CSV is written once, the others link to it.
   const fs::path first = out / "c0.5mm-mu0.2" / "ideal" / "channels.csv";
   EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(first)));
-  for (const char* tag : {"c0.5mm-mu0.4", "c0.5mm-mu0.6", "c1.0mm-mu0.2", "c1.0mm-mu0.4", "c1.0mm-mu0.6"}) {
+  for (const char* tag :
+       {"c0.5mm-mu0.4", "c0.5mm-mu0.6", "c1.0mm-mu0.2", "c1.0mm-mu0.4", "c1.0mm-mu0.6"}) {
     const fs::path p = out / tag / "ideal" / "channels.csv";
     EXPECT_TRUE(fs::is_symlink(p)) << tag;
     EXPECT_TRUE(fs::equivalent(p, first)) << tag;
   }
   fs::remove_all(out);
   EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()), 2);
+  EXPECT_FALSE(fs::exists(out));
+  // A key that fails a case (the 1 mm clearance does not fit a 0.8 mm bush) is refused before
+  // any case runs or any file is written (it used to write three cases first).
+  EXPECT_EQ(Flexrod("study rigid-rig-friction --no-plot --set joint.bush_radius=0.8mm --out " +
+                    out.string()),
+            2);
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -191,16 +214,21 @@ bool IsPng(const fs::path& path) {
 // strain gauges of a flexible one; none left half-written.
 TEST(RunCli, RunWritesItsPlots) {
   const fs::path rigid = TempDir("plots_rigid");
-  ASSERT_EQ(Flexrod("run rigid-rig --set sim.settle=0s --set sim.capture=0.4s --set sim.sample_rate=20kHz "
-                    "--out " + rigid.string()),
-            0);
-  for (const char* png : {"slider_acceleration.png", "spectrum.png", "poincare.png", "journal_orbit.png",
-                          "bearing_force.png"}) {
+  ASSERT_EQ(
+      Flexrod(
+          "run rigid-rig --set sim.settle=0s --set sim.capture=0.4s --set sim.sample_rate=20kHz "
+          "--out " +
+          rigid.string()),
+      0);
+  for (const char* png : {"slider_acceleration.png", "spectrum.png", "poincare.png",
+                          "journal_orbit.png", "bearing_force.png"}) {
     EXPECT_TRUE(IsPng(rigid / png)) << png;
   }
   const fs::path flexible = TempDir("plots_flexible");
-  ASSERT_EQ(Flexrod("run flexible-rig --set sim.settle=0.01s --set sim.capture=0.05s --set sim.sample_rate=20kHz "
-                    "--out " + flexible.string()),
+  ASSERT_EQ(Flexrod("run flexible-rig --set sim.settle=0.01s --set sim.capture=0.05s --set "
+                    "sim.sample_rate=20kHz "
+                    "--out " +
+                    flexible.string()),
             0);
   EXPECT_TRUE(IsPng(flexible / "rod_strain.png"));
   for (const fs::path& dir : {rigid, flexible}) {
@@ -223,18 +251,24 @@ std::string ReadText(const fs::path& path) {
 // loads as an input (0 = derive) and reruns the same mechanism.
 TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
   const fs::path first = TempDir("resolved_first"), again = TempDir("resolved_again");
-  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.1s --set joint.exponent=1.4 "
-                    "--out " + first.string()),
+  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.1s --set "
+                    "joint.exponent=1.4 "
+                    "--out " +
+                    first.string()),
             0);
   const std::string toml = ReadText(first / "resolved.toml");
   // Hybrid law, steel on steel: the stiffness is fitted to ESDU-78035; the user's exponent was used
   // as given, so it gets no note.
-  EXPECT_TRUE(std::regex_search(toml, std::regex("\nstiffness = 0  # \\[SI\\] default; used: [0-9.e+]+ N/m\\^1\\.4 "
-                                                 "\\(derived\\)\n")))
+  EXPECT_TRUE(std::regex_search(
+      toml, std::regex("\nstiffness = 0  # \\[SI\\] default; used: [0-9.e+]+ N/m\\^1\\.4 "
+                       "\\(derived\\)\n")))
       << toml;
   EXPECT_NE(toml.find("\nexponent = 1.4  # [1] set\n"), std::string::npos) << toml;
-  EXPECT_NE(toml.find("# resolved joint.pin_radius = 0.008525 m (derived)\n"), std::string::npos) << toml;
-  ASSERT_EQ(Flexrod("run " + (first / "resolved.toml").string() + " --no-plot --out " + again.string()), 0);
+  EXPECT_NE(toml.find("# resolved joint.pin_radius = 0.008525 m (derived)\n"), std::string::npos)
+      << toml;
+  ASSERT_EQ(
+      Flexrod("run " + (first / "resolved.toml").string() + " --no-plot --out " + again.string()),
+      0);
   std::ifstream a(first / "summary.json"), b(again / "summary.json");
   const nlohmann::json sa = nlohmann::json::parse(a), sb = nlohmann::json::parse(b);
   EXPECT_EQ(sa["joint_parameters"].size(), sb["joint_parameters"].size());
@@ -253,10 +287,13 @@ TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
 // output.channels / output.rate: what a run's CSV files hold.
 TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
   const fs::path out = TempDir("csv_select");
-  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
-                    "--set output.channels=\"slider_acceleration, penetration\" --set output.rate=\"10 kHz\" "
-                    "--out " + out.string()),
-            0);
+  ASSERT_EQ(
+      Flexrod(
+          "run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
+          "--set output.channels=\"slider_acceleration, penetration\" --set output.rate=\"10 kHz\" "
+          "--out " +
+          out.string()),
+      0);
   std::ifstream in(out / "channels.csv");
   std::string header, line;
   std::getline(in, header);
@@ -269,7 +306,8 @@ TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
     ++rows;
   }
   EXPECT_EQ(rows, 500);  // 0.05 s at 10 kHz: every 10th of the 5000 samples at 100 kHz
-  const double dt = std::stod(second.substr(0, second.find(','))) - std::stod(first.substr(0, first.find(',')));
+  const double dt =
+      std::stod(second.substr(0, second.find(','))) - std::stod(first.substr(0, first.find(',')));
   EXPECT_NEAR(dt, 1e-4, 1e-12);
   // The ideal twin has no contact channels: its CSV keeps those of the selection it has.
   std::ifstream ideal(out / "ideal" / "channels.csv");

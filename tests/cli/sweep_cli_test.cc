@@ -243,6 +243,12 @@ TEST_F(SweepCli, BadMatrixExitsWithCode2AndWritesNothing) {
        "rod.material = wood"},
       {"[sweep]\nbase = \"rigid-rig\"\n[store]\nchannels = \"slider_jerk\"\n",
        "store.channels = slider_jerk"},
+      // Run keys of every run, checked before any run (they used to fail every run, exit 0).
+      {"[sweep]\nbase = \"rigid-rig\"\n[set]\n\"sim.capture\" = \"0 s\"\n", "sim.capture = 0"},
+      {"[sweep]\nbase = \"rigid-rig\"\n[axes]\n\"sim.settle\" = [\"0.1 s\", \"-1 s\"]\n",
+       "sim.settle = -1"},
+      {"[sweep]\nbase = \"flexible-rig\"\n[set]\n\"output.midspan\" = \"0.3 m\"\n",
+       "output.midspan = 0.3 m"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const fs::path matrix = Dir() / ("bad" + std::to_string(i) + ".toml");
