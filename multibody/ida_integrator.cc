@@ -3,12 +3,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "multibody/ida_integrator.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <limits>
-
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
 #include <nvector/nvector_serial.h>
@@ -16,9 +10,15 @@
 #include <sundials/sundials_linearsolver.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
-#include <sunnonlinsol/sunnonlinsol_newton.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
 
 #include "common/scope_timer.h"
 
@@ -53,9 +53,7 @@ struct TimedContent {
 
 TimedContent* Content(SUNLinearSolver S) { return static_cast<TimedContent*>(S->content); }
 
-SUNLinearSolver_Type TimedGetType(SUNLinearSolver S) {
-  return SUNLinSolGetType(Content(S)->inner);
-}
+SUNLinearSolver_Type TimedGetType(SUNLinearSolver S) { return SUNLinSolGetType(Content(S)->inner); }
 SUNLinearSolver_ID TimedGetId(SUNLinearSolver S) { return SUNLinSolGetID(Content(S)->inner); }
 int TimedInitialize(SUNLinearSolver S) { return SUNLinSolInitialize(Content(S)->inner); }
 int TimedSetup(SUNLinearSolver S, SUNMatrix A) {
@@ -115,7 +113,8 @@ SUNLinearSolver MakeTimedSolver(SUNLinearSolver inner, double* seconds, SUNConte
 
 }  // namespace
 
-// ---- DaeSystem defaults ----------------------------------------------------------------------------
+// ---- DaeSystem defaults
+// ----------------------------------------------------------------------------
 void DaeSystem::AbsoluteToleranceScales(double* scales) const {
   for (int i = 0; i < size(); ++i) scales[i] = 1.0;
 }
@@ -143,16 +142,23 @@ SparsityPattern DaeSystem::JacobianPattern() const {
 
 const char* ToString(LinearSolverKind kind) {
   switch (kind) {
-    case LinearSolverKind::kAuto: return "auto";
-    case LinearSolverKind::kDense: return "dense";
-    case LinearSolverKind::kKlu: return "klu";
+    case LinearSolverKind::kAuto:
+      return "auto";
+    case LinearSolverKind::kDense:
+      return "dense";
+    case LinearSolverKind::kKlu:
+      return "klu";
   }
   return "?";
 }
 
 void IntegratorOptions::Validate() const {
-  Require(rel_tol > 0.0 && rel_tol < 1.0, "integrator.rel_tol", rel_tol, "must be in (0, 1)");
-  RequirePositive("integrator.abs_tol", abs_tol);
+  // Below 1e-14 a relative error is under the doubles' reach; below 1e-20 the error weights
+  // 1 / (rel_tol |y| + abs_tol) of components at zero overflow IDA's norms.
+  Require(rel_tol >= 1e-14 && rel_tol < 1.0, "integrator.rel_tol", rel_tol,
+          "must be in [1e-14, 1)");
+  Require(abs_tol >= 1e-20 && std::isfinite(abs_tol), "integrator.abs_tol", abs_tol,
+          "must be finite and >= 1e-20");
   RequireNonNegative("integrator.max_step", max_step);
   RequireNonNegative("integrator.initial_step", initial_step);
   Require(max_order >= 1 && max_order <= 5, "integrator.max_order", max_order, "must be 1..5");
@@ -200,7 +206,8 @@ std::string IdaFailureHint(int flag) {
   }
 }
 
-// ---- Impl: IDA objects and C callbacks ---------------------------------------------------------------
+// ---- Impl: IDA objects and C callbacks
+// ---------------------------------------------------------------
 struct IdaIntegrator::Impl {
   DaeSystem* system{nullptr};
   int n{0};
@@ -212,7 +219,7 @@ struct IdaIntegrator::Impl {
   SUNMatrix A{nullptr};
   SUNLinearSolver LS{nullptr};
   SUNNonlinearSolver NLS{nullptr};
-  double weights_step_scale{1.0};  // min(h, 1) the step-scaled error weights were set with
+  double weights_step_scale{1.0};   // min(h, 1) the step-scaled error weights were set with
   double newton_rate_factor{20.0};  // ss = ρ/(1 − ρ) of the last Newton solve (20 after a setup)
   double newton_first_norm{0.0};    // |Δ⁰| of the current Newton solve
   double newton_cj{0.0};            // c_j of the current Newton solve
@@ -221,8 +228,9 @@ struct IdaIntegrator::Impl {
   bool sparse{false};
   SparsityPattern pattern;
   std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
-  bool time_calls{false};  // IntegratorOptions::time_calls
-  double t_returned{std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it) [s]
+  bool time_calls{false};             // IntegratorOptions::time_calls
+  double t_returned{
+      std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it) [s]
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -370,8 +378,8 @@ static int IdaErrorWeights(N_Vector y, N_Vector ewt, void* user) {
 // update, 100 when c_j changed without one, and otherwise kept between steps (with a floor,
 // below). Measured on bench_runs rigid-clearance-177rpm: 11 059 Jacobians and 5 162
 // error-test failures against 13 915 and 6 624 with IDA's test, same results to the tolerance.
-static int IdaNewtonConvTest(SUNNonlinearSolver nls, N_Vector /*ycor*/, N_Vector del,
-                             realtype tol, N_Vector ewt, void* user) {
+static int IdaNewtonConvTest(SUNNonlinearSolver nls, N_Vector /*ycor*/, N_Vector del, realtype tol,
+                             N_Vector ewt, void* user) {
   auto* impl = static_cast<IdaIntegrator::Impl*>(user);
   double factor = 1.0;
   if (impl->scale_algebraic) {
@@ -432,14 +440,14 @@ static void IdaErrorHandler(int error_code, const char* module, const char* func
                             void* user) {
   auto* impl = static_cast<IdaIntegrator::Impl*>(user);
   if (impl == nullptr || impl->last_message == nullptr) return;
-  *impl->last_message = std::string(module ? module : "IDA") + "::" +
-                        (function ? function : "?") + " (" + std::to_string(error_code) +
-                        "): " + (msg ? msg : "");
+  *impl->last_message = std::string(module ? module : "IDA") + "::" + (function ? function : "?") +
+                        " (" + std::to_string(error_code) + "): " + (msg ? msg : "");
 }
 
 }  // extern "C"
 
-// ---- IdaIntegrator ---------------------------------------------------------------------------------
+// ---- IdaIntegrator
+// ---------------------------------------------------------------------------------
 IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options)
     : impl_(std::make_unique<Impl>()), system_(system), options_(options) {
   FLEXROD_ASSERT(system != nullptr);
@@ -453,7 +461,8 @@ IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options
       solver_kind_ =
           impl_->n >= options_.klu_threshold ? LinearSolverKind::kKlu : LinearSolverKind::kDense;
       break;
-    default: solver_kind_ = options_.linear_solver;
+    default:
+      solver_kind_ = options_.linear_solver;
   }
 }
 
@@ -520,15 +529,13 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   if (options_.initial_step > 0.0) {
     CheckFlag(IDASetInitStep(I.mem, options_.initial_step), "IDASetInitStep");
   }
-  CheckFlag(IDASetMaxNonlinIters(I.mem, options_.max_nonlinear_iterations),
-            "IDASetMaxNonlinIters");
+  CheckFlag(IDASetMaxNonlinIters(I.mem, options_.max_nonlinear_iterations), "IDASetMaxNonlinIters");
   CheckFlag(IDASetMaxConvFails(I.mem, options_.max_convergence_failures), "IDASetMaxConvFails");
   CheckFlag(IDASetMaxErrTestFails(I.mem, options_.max_error_test_failures),
             "IDASetMaxErrTestFails");
   CheckFlag(IDASetNonlinConvCoef(I.mem, options_.nonlinear_convergence_coefficient),
             "IDASetNonlinConvCoef");
-  CheckFlag(IDASetDeltaCjLSetup(I.mem, options_.jacobian_refresh_cj_change),
-            "IDASetDeltaCjLSetup");
+  CheckFlag(IDASetDeltaCjLSetup(I.mem, options_.jacobian_refresh_cj_change), "IDASetDeltaCjLSetup");
 
   SUNLinearSolver inner = nullptr;
   if (solver_kind_ == LinearSolverKind::kKlu) {
@@ -580,12 +587,16 @@ StepResult IdaIntegrator::Step(double tout) {
   out.t = tret;
   I.t_returned = tret;
   switch (flag) {
-    case IDA_SUCCESS: out.outcome = StepOutcome::kStep; return out;
+    case IDA_SUCCESS:
+      out.outcome = StepOutcome::kStep;
+      return out;
     case IDA_ROOT_RETURN:
       out.outcome = StepOutcome::kRoot;
       ++I.roots;
       return out;
-    case IDA_TSTOP_RETURN: out.outcome = StepOutcome::kStopTime; return out;
+    case IDA_TSTOP_RETURN:
+      out.outcome = StepOutcome::kStopTime;
+      return out;
     case IDA_ILL_INPUT:
       // IDA's root check after a root return found a root function that is exactly zero at
       // the root and just after it (a grazing contact: penetration 0 with rate 0). IDA cannot
@@ -596,7 +607,8 @@ StepResult IdaIntegrator::Step(double tout) {
         return out;
       }
       break;
-    default: break;
+    default:
+      break;
   }
   const std::string name = IdaFlagName(flag);
   throw IntegratorFailure("IDASolve failed at t = " + FormatValue(tret) + " s with " + name +

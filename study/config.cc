@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -147,6 +148,13 @@ void Config::LoadToml(const std::string& toml_text, const std::string& origin) {
 }
 
 void Config::LoadTomlFile(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    // A directory or /dev/null read as an empty input ran the defaults; a pipe could hang.
+    throw InputError("input file", path,
+                     "must be a regular TOML file, not a directory, device or pipe");
+  }
   std::ifstream in(path);
   if (!in) throw InputError("input file", path, "cannot be read (does it exist?)");
   std::stringstream ss;

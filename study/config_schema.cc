@@ -230,7 +230,8 @@ const std::vector<ParamDef>& Schema() {
        "voltage is set to (the mean speed droops under load)"},
       {"drive.profile", K::kText, D::kDimensionless, "",
        "speed profile: comma-separated time:speed pairs in s and rpm, e.g. \"0:0,0.5:200\""},
-      {"drive.initial_angle", K::kQuantity, D::kAngle, "0 deg", "crank angle at t = 0 [rad], reduced to [0, 2 pi)"},
+      {"drive.initial_angle", K::kQuantity, D::kAngle, "0 deg",
+       "crank angle at t = 0 [rad], reduced to [0, 2 pi)"},
       {"motor.stall_torque", K::kQuantity, D::kTorque, "20 N m",
        "DC motor stall torque at the motor shaft at rated armature voltage [N m] (assumed for 0.75 "
        "hp)"},
@@ -285,6 +286,10 @@ const std::vector<ParamDef>& Schema() {
        "relative to the clearance)"},
       {"sim.abs_tol", K::kQuantity, D::kDimensionless, "1e-8", "integrator absolute tolerance"},
       {"sim.max_step", K::kQuantity, D::kTime, "0", "integrator step limit [s]; 0 = none"},
+      {"sim.max_steps", K::kInteger, D::kDimensionless, "0",
+       "integrator steps allowed for each integration of a run (settling and capture, a steady "
+       "start's revolution), >= 0; 0 = 10^6 per simulated second + 10^5; a run that reaches it "
+       "fails, keeping what it computed"},
       {"sim.linear_solver",
        K::kChoice,
        D::kDimensionless,

@@ -376,7 +376,14 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
                                : ls == "klu" ? multibody::LinearSolverKind::kKlu
                                              : multibody::LinearSolverKind::kAuto;
   o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
-  o.integrator.Validate();
+  try {
+    o.integrator.Validate();
+  } catch (const InputError& e) {  // the integrator's option is the user's sim.* key
+    const std::string prefix = "integrator.";
+    const std::string key =
+        e.key().rfind(prefix, 0) == 0 ? "sim." + e.key().substr(prefix.size()) : e.key();
+    throw InputError(key, e.value(), e.rule());
+  }
   return o;
 }
 
@@ -394,6 +401,7 @@ void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
         "must hold at least 2 samples at sim.sample_rate = " + FormatValue(opt.sample_rate) +
             " Hz (>= " + FormatValue(2.0 / opt.sample_rate) + " s)");
   }
+  RequireNonNegative("sim.max_steps", cfg.Integer("sim.max_steps"));
   const std::string start = cfg.Text("sim.start");
   const int max_revolutions = cfg.Integer("sim.steady_revolutions");
   if (max_revolutions < 2) {
@@ -613,6 +621,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   opt.t_end = t_capture_start + capture;
   if (!mm.is_pendulum && cfg.Text("drive.type") != "constant")
     opt.t_end += 1.0;  // wait for the index
+  const int max_steps = cfg.Integer("sim.max_steps");
+  opt.max_steps = max_steps > 0 ? max_steps : std::lround(1e6 * (opt.t_end - opt.t_start)) + 100000;
   opt.time_elements = profile;
   opt.integrator.time_calls = profile;
   opt.Validate(m);

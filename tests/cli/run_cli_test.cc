@@ -99,7 +99,12 @@ TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
   std::ofstream(bad_toml / "x.toml") << "[rod\nheight = ";
   ExpectExitTwoAndNoOutput(
       "bad", {"run --set rod.colour=red", "run --set rod.height=-3mm", "run --set drive.speed=fast",
-              "run no-such-preset", "run " + (bad_toml / "x.toml").string()});
+              "run no-such-preset", "run " + (bad_toml / "x.toml").string(),
+              // Not a TOML file: a directory or a device used to run the defaults.
+              "run " + bad_toml.string(), "run /dev/null",
+              // Tolerances beyond the doubles' reach, named by the user's key.
+              "run --set sim.abs_tol=1e-300", "run --set sim.rel_tol=1e-17",
+              "run --set sim.max_steps=-1"});
   fs::remove_all(bad_toml);
 }
 

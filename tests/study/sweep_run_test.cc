@@ -148,7 +148,7 @@ TEST(SweepRun, StoreDoesNotDependOnTheNumberOfThreads) {
 
 TEST(SweepRun, AFailedRunIsRecordedAndTheSweepGoesOn) {
   const fs::path dir = TempDir("failed");
-  // Tolerances of 1e-300 are beyond machine precision: IDA refuses the run.
+  // A budget of 10 steps does not reach the end of the run: it fails, keeping what it computed.
   const SweepMatrix m = Matrix(R"(
 [sweep]
 base = "rigid-rig"
@@ -157,7 +157,7 @@ sim.settle = "0.1 s"
 sim.capture = "0.2 s"
 sim.sample_rate = "10 kHz"
 [axes]
-"sim.rel_tol,sim.abs_tol" = [["1e-6", "1e-8"], ["1e-300", "1e-300"], ["1e-7", "1e-9"]]
+"sim.max_steps" = [0, 10, 100000]
 )");
   SweepOptions options;
   options.jobs = 2;
