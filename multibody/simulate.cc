@@ -776,8 +776,8 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       if (options.max_steps > 0 && steps >= options.max_steps) {
         fill_failure(SimulationOutcome::kStepLimit,
                      "step budget of " + std::to_string(options.max_steps) + " steps exhausted",
-                     "increase simulation.max_steps, loosen tolerances or check for chattering "
-                     "events",
+                     "increase the step budget (sim.max_steps), loosen tolerances or check for "
+                     "chattering events",
                      t_now);
         break;
       }
