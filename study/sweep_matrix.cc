@@ -375,6 +375,17 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
       const std::string key(k.str());
       const std::string v = ScalarText(node, "sweep." + key);
       if (key == "name") {
+        // The name becomes a file name (out/<name>.h5): one plain component, nothing that
+        // could leave the output folder.
+        const bool plain =
+            !v.empty() && v.size() <= 200 && v != "." && v != ".." &&
+            v.find_first_of("/\\") == std::string::npos &&
+            std::all_of(v.begin(), v.end(), [](unsigned char c) { return c >= 0x20; });
+        if (!plain) {
+          throw InputError("sweep.name", "\"" + v + "\"",
+                           "must be a plain file name: 1 to 200 characters, no '/', '\\', control "
+                           "characters, '.' or '..'");
+        }
         m.name = v;
       } else if (key == "base") {
         m.base = v;
@@ -597,7 +608,8 @@ std::string Fnv1aHex(const std::string& bytes) {
 std::string RunFingerprint(const Config& cfg, const StoreOptions& store) {
   std::string text = "flexrod sweep run v1\n";
   for (const Config::Resolved& r : cfg.Resolve()) {
-    if (r.key.rfind("vtk.", 0) == 0) continue;  // ParaView output of single runs: no effect on results
+    if (r.key.rfind("vtk.", 0) == 0)
+      continue;  // ParaView output of single runs: no effect on results
     text += r.key + "=" + r.value + " " + r.unit + (r.is_default ? "" : " set") +
             "\n";  // set vs default can differ
   }

@@ -249,6 +249,9 @@ TEST_F(SweepCli, BadMatrixExitsWithCode2AndWritesNothing) {
        "sim.settle = -1"},
       {"[sweep]\nbase = \"flexible-rig\"\n[set]\n\"output.midspan\" = \"0.3 m\"\n",
        "output.midspan = 0.3 m"},
+      // The name is the default store's file name: it must not leave the output folder.
+      {"[sweep]\nname = \"../x\"\nbase = \"rigid-rig\"\n", "sweep.name = \"../x\""},
+      {"[sweep]\nname = \"\"\nbase = \"rigid-rig\"\n", "sweep.name = \"\""},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const fs::path matrix = Dir() / ("bad" + std::to_string(i) + ".toml");
