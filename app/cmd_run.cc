@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `flexrod run [preset-or-file.toml] [--set key=value ...] [--out DIR]` and `flexrod keys`.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/plotting.h"
@@ -24,6 +24,7 @@ struct RunOptions {
   std::string out_dir{"out/run"};
   std::string vtk_dir;  ///< ParaView output directory, "" = none
   bool no_plot{false};
+  bool check{false};  ///< --check: repeat at 100x tighter tolerances, report the differences
 };
 
 /// A summary ratio to 4 significant digits; "n/a" when absent or null (undefined ratio).
@@ -36,7 +37,8 @@ std::string Ratio(const nlohmann::json& object, const char* key) {
 
 Config LoadInput(const std::string& input, const std::vector<std::string>& sets) {
   Config cfg;
-  const Preset* p = input.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(input);  // sweep-* are matrices
+  const Preset* p =
+      input.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(input);  // sweep-* are matrices
   if (p) {
     cfg.LoadToml(p->toml, "preset " + input);
   } else if (std::filesystem::exists(input)) {
@@ -46,7 +48,8 @@ Config LoadInput(const std::string& input, const std::vector<std::string>& sets)
     for (const Preset& q : Presets()) {
       if (q.name.rfind("sweep-", 0) != 0) names += (names.empty() ? "" : ", ") + q.name;
     }
-    throw InputError("input", input, "is neither a preset (" + names + ") nor an existing TOML file");
+    throw InputError("input", input,
+                     "is neither a preset (" + names + ") nor an existing TOML file");
   }
   for (const std::string& s : sets) cfg.SetAssignment(s);
   return cfg;
@@ -54,9 +57,21 @@ Config LoadInput(const std::string& input, const std::vector<std::string>& sets)
 
 int Run(const RunOptions& opt) {
   const Config cfg = LoadInput(opt.input, opt.sets);
+  const std::optional<Config> check_cfg =
+      opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
   RunOutputOptions outputs;
   outputs.vtk_dir = opt.vtk_dir;
-  const RunResult run = RunSimulation(cfg, nullptr, false, outputs);
+  RunResult run = RunSimulation(cfg, nullptr, false, outputs);
+  if (check_cfg && run.ok()) {
+    std::fprintf(stderr, "flexrod: --check: the same run at rel_tol %s, abs_tol %s\n",
+                 check_cfg->Text("sim.rel_tol").c_str(), check_cfg->Text("sim.abs_tol").c_str());
+    const RunResult reference = RunSimulation(*check_cfg, nullptr, false, {});
+    nlohmann::json check = CompareHeadlineFigures(run.summary, reference.summary);
+    check["rel_tol"] = check_cfg->Quantity("sim.rel_tol");
+    check["abs_tol"] = check_cfg->Quantity("sim.abs_tol");
+    check["reference_outcome"] = multibody::ToString(reference.status.outcome);
+    run.summary["accuracy_check"] = check;
+  }
   WriteRunFiles(opt.out_dir, cfg, run);
   const auto& s = run.summary;
   std::printf("flexrod run %s -> %s\n", opt.input.c_str(), opt.out_dir.c_str());
@@ -68,53 +83,78 @@ int Run(const RunOptions& opt) {
               run.channels.sample_rate(), run.channels.start_time());
   if (s.contains("slider_acceleration")) {
     const auto& a = s["slider_acceleration"];
-    std::printf("  slider acceleration: peak +%.4g / -%.4g m/s^2, rms %.4g m/s^2 over %d revolutions\n",
-                a["peak_positive"].get<double>(), a["peak_negative"].get<double>(), a["rms"].get<double>(),
-                a["revolutions"].get<int>());
+    std::printf(
+        "  slider acceleration: peak +%.4g / -%.4g m/s^2, rms %.4g m/s^2 over %d revolutions\n",
+        a["peak_positive"].get<double>(), a["peak_negative"].get<double>(), a["rms"].get<double>(),
+        a["revolutions"].get<int>());
   }
   if (s.contains("crank_speed")) {
     const auto& w = s["crank_speed"];
     constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
-    std::printf("  crank speed: mean %.5g rpm (min %.5g, max %.5g)", w["mean [rad/s]"].get<double>() * kRpm,
-                w["min [rad/s]"].get<double>() * kRpm, w["max [rad/s]"].get<double>() * kRpm);
-    if (!w["set [rad/s]"].is_null()) std::printf(", set %.5g rpm", w["set [rad/s]"].get<double>() * kRpm);
+    std::printf("  crank speed: mean %.5g rpm (min %.5g, max %.5g)",
+                w["mean [rad/s]"].get<double>() * kRpm, w["min [rad/s]"].get<double>() * kRpm,
+                w["max [rad/s]"].get<double>() * kRpm);
+    if (!w["set [rad/s]"].is_null())
+      std::printf(", set %.5g rpm", w["set [rad/s]"].get<double>() * kRpm);
     std::printf("\n");
   }
   if (s.contains("load_amplification")) {
     const auto& a = s["load_amplification"];
-    std::printf("  load amplification (real / ideal joint): slider acceleration +%s / -%s (p95 of per-rev peaks: "
-                "+%s / -%s), bearing force %s (p95 %s)\n",
-                Ratio(a, "slider_acceleration_positive").c_str(), Ratio(a, "slider_acceleration_negative").c_str(),
-                Ratio(a, "slider_acceleration_positive_p95").c_str(),
-                Ratio(a, "slider_acceleration_negative_p95").c_str(), Ratio(a, "bearing_force").c_str(),
-                Ratio(a, "bearing_force_p95").c_str());
+    std::printf(
+        "  load amplification (real / ideal joint): slider acceleration +%s / -%s (p95 of per-rev "
+        "peaks: "
+        "+%s / -%s), bearing force %s (p95 %s)\n",
+        Ratio(a, "slider_acceleration_positive").c_str(),
+        Ratio(a, "slider_acceleration_negative").c_str(),
+        Ratio(a, "slider_acceleration_positive_p95").c_str(),
+        Ratio(a, "slider_acceleration_negative_p95").c_str(), Ratio(a, "bearing_force").c_str(),
+        Ratio(a, "bearing_force_p95").c_str());
   }
   if (s.contains("rod")) {
     std::printf("  rod: peak gauge stress %.4g MPa, safety factor against yield %s\n",
-                s["rod"]["peak_gauge_stress [Pa]"].get<double>() * 1e-6, Ratio(s["rod"], "safety_factor").c_str());
+                s["rod"]["peak_gauge_stress [Pa]"].get<double>() * 1e-6,
+                Ratio(s["rod"], "safety_factor").c_str());
   }
   if (s.contains("energy")) {
     std::printf("  energy balance error: %.3g J (%.3g of peak kinetic energy)\n",
                 s["energy"]["max_balance_error [J]"].get<double>(),
                 s["energy"]["relative_balance_error"].get<double>());
   }
-  if (s.contains("warnings")) {
-    for (const auto& w : s["warnings"]) std::fprintf(stderr, "flexrod: warning: %s\n", w.get<std::string>().c_str());
+  if (s.contains("accuracy_check")) {
+    const auto& c = s["accuracy_check"];
+    std::printf(
+        "  accuracy check (the same run at rel_tol %.3g, abs_tol %.3g): largest difference %+.3g "
+        "%% (%s)\n",
+        c["rel_tol"].get<double>(), c["abs_tol"].get<double>(),
+        c["max_difference [%]"].get<double>(),
+        c["max_difference_figure"].get<std::string>().c_str());
+    for (const auto& [name, f] : c["figures"].items()) {
+      std::printf("    %-52s %+.3g %%\n", name.c_str(), f["difference [%]"].get<double>());
+    }
   }
-  if (s.contains("ideal") && s["ideal"].contains("warnings")) {  // the twin's own, e.g. its energy balance
+  if (s.contains("warnings")) {
+    for (const auto& w : s["warnings"])
+      std::fprintf(stderr, "flexrod: warning: %s\n", w.get<std::string>().c_str());
+  }
+  if (s.contains("ideal") &&
+      s["ideal"].contains("warnings")) {  // the twin's own, e.g. its energy balance
     for (const auto& w : s["ideal"]["warnings"]) {
-      std::fprintf(stderr, "flexrod: warning: ideal-joint twin: %s\n", w.get<std::string>().c_str());
+      std::fprintf(stderr, "flexrod: warning: ideal-joint twin: %s\n",
+                   w.get<std::string>().c_str());
     }
   }
   if (run.vtk && !run.vtk_collection.empty()) {
-    std::printf("  paraview: %zu frames at %.6g Hz, rod deformation x%.6g -> %s\n", run.vtk->frames.size(),
-                run.vtk->frame_rate, run.vtk->options.scale, run.vtk_collection.c_str());
+    std::printf("  paraview: %zu frames at %.6g Hz, rod deformation x%.6g -> %s\n",
+                run.vtk->frames.size(), run.vtk->frame_rate, run.vtk->options.scale,
+                run.vtk_collection.c_str());
   }
   if (!opt.no_plot && run.channels.num_samples() > 1) PlotRun(opt.out_dir);
   if (!run.ok()) {
-    std::fprintf(stderr, "flexrod: numerical failure at t = %.9g s: %s\n  hint: %s\n  kept %zu samples in %s\n",
-                 run.status.t_reached, run.status.message.c_str(), run.status.hint.c_str(),
-                 run.channels.num_samples(), opt.out_dir.c_str());
+    std::fprintf(
+        stderr,
+        "flexrod: numerical failure at t = %.9g s: %s\n  hint: %s\n  kept %zu samples in %s\n",
+        run.status.t_reached, run.status.message.c_str(), run.status.hint.c_str(),
+        run.channels.num_samples(), opt.out_dir.c_str());
     return 1;
   }
   return 0;
@@ -125,22 +165,28 @@ int Run(const RunOptions& opt) {
 void RegisterRun(CLI::App& app, Handler* handler) {
   auto opt = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "run one simulation (default: the flexible rig)");
-  cmd->add_option("input", opt->input, "preset name or TOML file (presets: flexible-rig, rigid-rig, "
-                                       "simeon-crank, flexible-pendulum)");
+  cmd->add_option("input", opt->input,
+                  "preset name or TOML file (presets: flexible-rig, rigid-rig, "
+                  "simeon-crank, flexible-pendulum)");
   cmd->add_option("--set", opt->sets, "override a key: --set rod.height=\"25.4 mm\"")->take_all();
   cmd->add_option("--out", opt->out_dir, "output directory")->capture_default_str();
   cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plot");
-  cmd->add_option("--vtk", opt->vtk_dir,
-                  "write a ParaView time series (DIR/run.pvd + one .vtu per frame) of the deformed rod, "
-                  "crank and slider; keys vtk.rate, vtk.scale, vtk.duration");
+  cmd->add_flag("--check", opt->check,
+                "accuracy estimate: repeat the run at 100x tighter sim.rel_tol and sim.abs_tol and "
+                "report each "
+                "headline figure's difference (summary accuracy_check)");
+  cmd->add_option(
+      "--vtk", opt->vtk_dir,
+      "write a ParaView time series (DIR/run.pvd + one .vtu per frame) of the deformed rod, "
+      "crank and slider; keys vtk.rate, vtk.scale, vtk.duration");
   cmd->callback([opt, handler] { *handler = [opt] { return Run(*opt); }; });
 
   CLI::App* keys = app.add_subcommand("keys", "list every input key with its default and unit");
   keys->callback([handler] {
     *handler = [] {
       for (const ParamDef& p : Schema()) {
-        std::printf("%-28s %-16s %s\n", p.key.c_str(), p.default_text.empty() ? "\"\"" : p.default_text.c_str(),
-                    p.doc.c_str());
+        std::printf("%-28s %-16s %s\n", p.key.c_str(),
+                    p.default_text.empty() ? "\"\"" : p.default_text.c_str(), p.doc.c_str());
       }
       return 0;
     };

@@ -911,6 +911,68 @@ Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params)
 
 }  // namespace
 
+Config TightenedForCheck(const Config& cfg) {
+  Config check = cfg;
+  for (const char* key : {"sim.rel_tol", "sim.abs_tol"}) {
+    check.Set(key, FormatValue(cfg.Quantity(key) / 100.0));
+  }
+  try {
+    (void)OptionsFromConfig(check);
+  } catch (const InputError& e) {
+    throw InputError("--check", e.key() + " = " + e.value(),
+                     "the check runs at 100x tighter tolerances, which " + e.rule() +
+                         "; loosen the run's own tolerance");
+  }
+  return check;
+}
+
+nlohmann::json CompareHeadlineFigures(const nlohmann::json& summary,
+                                      const nlohmann::json& reference) {
+  // Summary paths of the figures users quote, with their units.
+  static const std::vector<std::pair<std::vector<std::string>, std::string>> kFigures = {
+      {{"slider_acceleration", "peak_positive"}, "m/s^2"},
+      {{"slider_acceleration", "peak_negative"}, "m/s^2"},
+      {{"slider_acceleration", "per_revolution_abs", "p95"}, "m/s^2"},
+      {{"load_amplification", "slider_acceleration_positive"}, "1"},
+      {{"load_amplification", "slider_acceleration_negative"}, "1"},
+      {{"load_amplification", "slider_acceleration_positive_p95"}, "1"},
+      {{"load_amplification", "slider_acceleration_negative_p95"}, "1"},
+      {{"load_amplification", "bearing_force"}, "1"},
+      {{"load_amplification", "bearing_force_peak_real [N]"}, "N"},
+      {{"rod", "peak_gauge_stress [Pa]"}, "Pa"},
+  };
+  auto find = [](const nlohmann::json& j,
+                 const std::vector<std::string>& path) -> const nlohmann::json* {
+    const nlohmann::json* node = &j;
+    for (const std::string& k : path) {
+      if (!node->is_object() || !node->contains(k)) return nullptr;
+      node = &(*node)[k];
+    }
+    return node->is_number() ? node : nullptr;
+  };
+  nlohmann::json out = {{"figures", nlohmann::json::object()}};
+  double worst = 0.0;
+  std::string worst_name;
+  for (const auto& [path, unit] : kFigures) {
+    const nlohmann::json* a = find(summary, path);
+    const nlohmann::json* b = find(reference, path);
+    if (a == nullptr || b == nullptr) continue;
+    std::string name;
+    for (const std::string& k : path) name += (name.empty() ? "" : ".") + k;
+    const double value = a->get<double>(), ref = b->get<double>();
+    const double diff = ref != 0.0 ? 100.0 * (value - ref) / std::abs(ref) : 0.0;
+    out["figures"][name] = {
+        {"value", value}, {"reference", ref}, {"unit", unit}, {"difference [%]", diff}};
+    if (std::abs(diff) >= std::abs(worst)) {
+      worst = diff;
+      worst_name = name;
+    }
+  }
+  out["max_difference [%]"] = worst;
+  out["max_difference_figure"] = worst_name;
+  return out;
+}
+
 void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run,
                    const std::string& shared_ideal_csv) {
   EnsureDirectory("--out", dir);

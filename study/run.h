@@ -99,6 +99,18 @@ struct RunOutputOptions {
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod = nullptr,
                         bool ideal_joint = false, const RunOutputOptions& outputs = {});
 
+/// The accuracy estimate of `flexrod run --check`: `cfg` with sim.rel_tol and sim.abs_tol
+/// 100 times tighter (InputError if that goes below the integrator's floor).
+Config TightenedForCheck(const Config& cfg);
+
+/// The headline figures of a run summary (peak and p95 of the per-revolution peak slider
+/// acceleration, the load amplifications, the peak bearing force, the peak gauge stress),
+/// each with its value, the reference run's and their relative difference [%], under
+/// "figures"; "max_difference [%]" and the figure that has it. Figures either summary lacks
+/// (a rigid rod has no gauges, an ideal joint no amplification) are left out.
+nlohmann::json CompareHeadlineFigures(const nlohmann::json& summary,
+                                      const nlohmann::json& reference);
+
 /// Writes resolved.toml, channels.csv, summary.json (and impacts.csv, ideal/channels.csv for
 /// clearance runs) into `dir`. Each file is written whole (temporary + rename). When
 /// `shared_ideal_csv` names an already written ideal/channels.csv of the same twin (runs of a

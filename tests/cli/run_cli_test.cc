@@ -108,6 +108,28 @@ TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
   fs::remove_all(bad_toml);
 }
 
+// `run --check` repeats the run at 100x tighter tolerances and writes every headline figure's
+// difference into the summary; a check that would go below the tolerance floor is refused
+// before any work.
+TEST(RunCli, CheckWritesTheDifferencesAtTighterTolerances) {
+  const fs::path out = TempDir("check");
+  ASSERT_EQ(
+      Flexrod("run rigid-rig --check --no-plot --set joint.type=clearance --set sim.settle=0s "
+              "--set sim.capture=0.4s --out " +
+              out.string()),
+      0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  ASSERT_TRUE(s.contains("accuracy_check"));
+  const auto& c = s["accuracy_check"];
+  EXPECT_DOUBLE_EQ(c["rel_tol"].get<double>(), 1e-8);  // the preset's 1e-6 / 100
+  EXPECT_TRUE(c["figures"].contains("slider_acceleration.per_revolution_abs.p95"));
+  EXPECT_TRUE(c["figures"].contains("load_amplification.slider_acceleration_positive"));
+  EXPECT_EQ(c["reference_outcome"], "completed");
+  fs::remove_all(out);
+  ExpectExitTwoAndNoOutput("check_floor", {"run rigid-rig --check --set sim.rel_tol=1e-13"});
+}
+
 TEST(ModesCli, JsonHasTheDocumentedKeys) {
   const fs::path dir = TempDir("modes");
   fs::create_directories(dir);

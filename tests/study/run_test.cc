@@ -334,6 +334,48 @@ TEST(RunInput, CrankAnglesAreReducedModuloOneTurn) {
   EXPECT_LT(worst, 1e-2 * peak);
 }
 
+// --check's comparison: each headline figure present in both summaries with its relative
+// difference to the reference, figures either lacks left out, the largest |difference| named.
+TEST(AccuracyCheck, ComparesEveryHeadlineFigureBothSummariesHave) {
+  const nlohmann::json run = {
+      {"slider_acceleration",
+       {{"peak_positive", 101.0},
+        {"peak_negative", 99.0},
+        {"per_revolution_abs", {{"p95", 100.0}}}}},
+      {"load_amplification", {{"slider_acceleration_positive", 7.7}, {"bearing_force", 4.0}}},
+      {"rod", {{"peak_gauge_stress [Pa]", 3.0e7}}}};
+  const nlohmann::json ref = {{"slider_acceleration",
+                               {{"peak_positive", 100.0},
+                                {"peak_negative", 100.0},
+                                {"per_revolution_abs", {{"p95", 100.0}}}}},
+                              {"load_amplification", {{"slider_acceleration_positive", 7.0}}},
+                              {"rod", {{"peak_gauge_stress [Pa]", 3.0e7}}}};
+  const nlohmann::json c = CompareHeadlineFigures(run, ref);
+  const auto& f = c["figures"];
+  EXPECT_EQ(f.size(), 5u);  // bearing_force: the reference lacks it
+  EXPECT_NEAR(f["slider_acceleration.peak_positive"]["difference [%]"].get<double>(), 1.0, 1e-12);
+  EXPECT_NEAR(f["slider_acceleration.peak_negative"]["difference [%]"].get<double>(), -1.0, 1e-12);
+  EXPECT_NEAR(f["slider_acceleration.per_revolution_abs.p95"]["difference [%]"].get<double>(), 0.0,
+              1e-12);
+  EXPECT_NEAR(f["load_amplification.slider_acceleration_positive"]["difference [%]"].get<double>(),
+              10.0, 1e-12);
+  EXPECT_EQ(f["rod.peak_gauge_stress [Pa]"]["unit"], "Pa");
+  EXPECT_FALSE(f.contains("load_amplification.bearing_force"));
+  EXPECT_NEAR(c["max_difference [%]"].get<double>(), 10.0, 1e-12);
+  EXPECT_EQ(c["max_difference_figure"], "load_amplification.slider_acceleration_positive");
+  // The check's tolerances are the run's, 100 times tighter, and must stay above the floor.
+  const Config tight =
+      TightenedForCheck(Preset("rigid-rig", {"sim.rel_tol=1e-7", "sim.abs_tol=1e-9"}));
+  EXPECT_NEAR(tight.Quantity("sim.rel_tol"), 1e-9, 1e-24);
+  EXPECT_NEAR(tight.Quantity("sim.abs_tol"), 1e-11, 1e-26);
+  try {
+    (void)TightenedForCheck(Preset("rigid-rig", {"sim.rel_tol=1e-13"}));
+    ADD_FAILURE() << "a check below the rel_tol floor was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "--check");
+  }
+}
+
 /// 95th percentile (type 7) of the per-revolution peaks of f, revolutions binned by the crank
 /// angle: revolution k holds the samples with floor((θ − index) / 2π) = k. The last bin and a
 /// first bin that starts after its index crossing are partial and left out. Independent of
