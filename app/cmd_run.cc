@@ -57,6 +57,7 @@ Config LoadInput(const std::string& input, const std::vector<std::string>& sets)
 
 int Run(const RunOptions& opt) {
   const Config cfg = LoadInput(opt.input, opt.sets);
+  CheckCanCreateDirectory("--out", opt.out_dir);  // before the run, not after it
   const std::optional<Config> check_cfg =
       opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
   RunOutputOptions outputs;

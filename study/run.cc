@@ -795,6 +795,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
 /// Throws InputError(key, dir, ...) unless `dir` is a directory or could be created as one
 /// (its nearest existing ancestor is a writable directory). Creates nothing: bad input
 /// writes nothing.
+}  // namespace
+
 void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -808,8 +810,6 @@ void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
     throw InputError(key, dir, "cannot be created or written: " + p.string() + " is not writable");
   }
 }
-
-}  // namespace
 
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
                         bool ideal_joint, const RunOutputOptions& outputs) {

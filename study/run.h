@@ -99,6 +99,11 @@ struct RunOutputOptions {
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod = nullptr,
                         bool ideal_joint = false, const RunOutputOptions& outputs = {});
 
+/// InputError naming `key` unless `dir` is a directory or can be created as one (its nearest
+/// existing ancestor is a writable directory). Creates nothing: output locations are checked
+/// before the work, and written after it.
+void CheckCanCreateDirectory(const std::string& key, const std::string& dir);
+
 /// The accuracy estimate of `flexrod run --check`: `cfg` with sim.rel_tol and sim.abs_tol
 /// 100 times tighter (InputError if that goes below the integrator's floor).
 Config TightenedForCheck(const Config& cfg);

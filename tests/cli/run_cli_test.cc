@@ -130,6 +130,22 @@ TEST(RunCli, CheckWritesTheDifferencesAtTighterTolerances) {
   ExpectExitTwoAndNoOutput("check_floor", {"run rigid-rig --check --set sim.rel_tol=1e-13"});
 }
 
+// An --out that cannot be a directory (a regular file) is refused before the run, not after
+// it (the whole simulation used to be lost), and the file is left as it was.
+TEST(RunCli, OutThatCannotBeADirectoryExitsWithTwoBeforeTheRun) {
+  const fs::path dir = TempDir("out_file");
+  fs::create_directories(dir);
+  const fs::path file = dir / "a_file";
+  std::ofstream(file) << "keep";
+  EXPECT_EQ(Flexrod("run --out " + file.string()), 2);  // the default 4.2 s flexible rig
+  EXPECT_EQ(Flexrod("run --out " + (file / "sub").string()), 2);
+  std::ifstream in(file);
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "keep");
+  fs::remove_all(dir);
+}
+
 TEST(ModesCli, JsonHasTheDocumentedKeys) {
   const fs::path dir = TempDir("modes");
   fs::create_directories(dir);
