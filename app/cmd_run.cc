@@ -151,11 +151,10 @@ int Run(const RunOptions& opt) {
   }
   if (!opt.no_plot && run.channels.num_samples() > 1) PlotRun(opt.out_dir);
   if (!run.ok()) {
-    std::fprintf(
-        stderr,
-        "flexrod: numerical failure at t = %.9g s: %s\n  hint: %s\n  kept %zu samples in %s\n",
-        run.status.t_reached, run.status.message.c_str(), run.status.hint.c_str(),
-        run.channels.num_samples(), opt.out_dir.c_str());
+    // The status's summary: message, hint, the state's norms, the variables with the largest
+    // residual and local error, and the integrator's counters.
+    std::fprintf(stderr, "flexrod: numerical failure: %s\n  kept %zu samples in %s\n",
+                 run.status.Summary().c_str(), run.channels.num_samples(), opt.out_dir.c_str());
     return 1;
   }
   return 0;

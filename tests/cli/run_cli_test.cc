@@ -146,6 +146,28 @@ TEST(RunCli, OutThatCannotBeADirectoryExitsWithTwoBeforeTheRun) {
   fs::remove_all(dir);
 }
 
+// A run that fails numerically exits 1, keeps what it computed and reports the time, the
+// state (norms, the variable with the largest residual) and a hint naming the user's key.
+TEST(RunCli, NumericalFailureReportsTimeStateAndHint) {
+  const fs::path out = TempDir("failure");
+  const fs::path log =
+      fs::temp_directory_path() / ("flexrod_cli_failure_" + std::to_string(::getpid()) + ".log");
+  const std::string cmd = std::string(FLEXROD_BINARY) +
+                          " run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
+                          "--set sim.max_steps=10 --out " +
+                          out.string() + " >" + log.string() + " 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* part : {"step-limit at t = ", "hint: increase the step budget (sim.max_steps)",
+                           "|p| = ", "largest residual", "kept "}) {
+    EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+  }
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+  fs::remove_all(out);
+  fs::remove(log);
+}
+
 TEST(ModesCli, JsonHasTheDocumentedKeys) {
   const fs::path dir = TempDir("modes");
   fs::create_directories(dir);
