@@ -102,9 +102,8 @@ int Run(const RunOptions& opt) {
   if (s.contains("load_amplification")) {
     const auto& a = s["load_amplification"];
     std::printf(
-        "  load amplification (real / ideal joint): slider acceleration +%s / -%s (p95 of per-rev "
-        "peaks: "
-        "+%s / -%s), bearing force %s (p95 %s)\n",
+        "  load amplification (real / ideal joint): slider acceleration +%s / -%s "
+        "(p95 of per-rev peaks: +%s / -%s), bearing force %s (p95 %s)\n",
         Ratio(a, "slider_acceleration_positive").c_str(),
         Ratio(a, "slider_acceleration_negative").c_str(),
         Ratio(a, "slider_acceleration_positive_p95").c_str(),
@@ -172,9 +171,8 @@ void RegisterRun(CLI::App& app, Handler* handler) {
   cmd->add_option("--out", opt->out_dir, "output directory")->capture_default_str();
   cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plot");
   cmd->add_flag("--check", opt->check,
-                "accuracy estimate: repeat the run at 100x tighter sim.rel_tol and sim.abs_tol and "
-                "report each "
-                "headline figure's difference (summary accuracy_check)");
+                "accuracy estimate: repeat the run at 100x tighter sim.rel_tol and sim.abs_tol "
+                "and report each headline figure's difference (summary accuracy_check)");
   cmd->add_option(
       "--vtk", opt->vtk_dir,
       "write a ParaView time series (DIR/run.pvd + one .vtu per frame) of the deformed rod, "

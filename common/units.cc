@@ -75,25 +75,44 @@ std::string_view Trim(std::string_view s) {
 
 const char* SiUnit(Dimension dim) {
   switch (dim) {
-    case Dimension::kDimensionless: return "1";
-    case Dimension::kLength: return "m";
-    case Dimension::kMass: return "kg";
-    case Dimension::kTime: return "s";
-    case Dimension::kFrequency: return "Hz";
-    case Dimension::kAngle: return "rad";
-    case Dimension::kAngularVelocity: return "rad/s";
-    case Dimension::kVelocity: return "m/s";
-    case Dimension::kAcceleration: return "m/s^2";
-    case Dimension::kForce: return "N";
-    case Dimension::kTorque: return "N*m";
-    case Dimension::kPressure: return "Pa";
-    case Dimension::kDensity: return "kg/m^3";
-    case Dimension::kInertia: return "kg*m^2";
-    case Dimension::kStiffness: return "N/m";
-    case Dimension::kDamping: return "N*s/m";
-    case Dimension::kRotDamping: return "N*m*s/rad";
-    case Dimension::kRotStiffness: return "N*m/rad";
-    case Dimension::kAny: return "SI";
+    case Dimension::kDimensionless:
+      return "1";
+    case Dimension::kLength:
+      return "m";
+    case Dimension::kMass:
+      return "kg";
+    case Dimension::kTime:
+      return "s";
+    case Dimension::kFrequency:
+      return "Hz";
+    case Dimension::kAngle:
+      return "rad";
+    case Dimension::kAngularVelocity:
+      return "rad/s";
+    case Dimension::kVelocity:
+      return "m/s";
+    case Dimension::kAcceleration:
+      return "m/s^2";
+    case Dimension::kForce:
+      return "N";
+    case Dimension::kTorque:
+      return "N*m";
+    case Dimension::kPressure:
+      return "Pa";
+    case Dimension::kDensity:
+      return "kg/m^3";
+    case Dimension::kInertia:
+      return "kg*m^2";
+    case Dimension::kStiffness:
+      return "N/m";
+    case Dimension::kDamping:
+      return "N*s/m";
+    case Dimension::kRotDamping:
+      return "N*m*s/rad";
+    case Dimension::kRotStiffness:
+      return "N*m/rad";
+    case Dimension::kAny:
+      return "SI";
   }
   return "?";
 }
@@ -105,8 +124,8 @@ double ParseQuantity(const std::string& key, const std::string& text, Dimension 
   const char* end = s.data() + s.size();
   auto [ptr, ec] = std::from_chars(begin, end, value);
   if (ec != std::errc() || ptr == begin) {
-    throw InputError(key, "\"" + text + "\"", std::string("must be a number, optionally with a unit (") +
-                                                 SiUnit(dim) + ")");
+    throw InputError(key, "\"" + text + "\"",
+                     std::string("must be a number, optionally with a unit (") + SiUnit(dim) + ")");
   }
   if (!std::isfinite(value)) throw InputError(key, "\"" + text + "\"", "must be finite");
   const std::string_view unit = Trim(std::string_view(ptr, end - ptr));
@@ -115,14 +134,22 @@ double ParseQuantity(const std::string& key, const std::string& text, Dimension 
     if (u.symbol == unit) {
       if (dim != Dimension::kAny && u.dim != dim) {
         throw InputError(key, "\"" + text + "\"",
-                         std::string("unit '") + std::string(unit) + "' has the wrong dimension; expected " +
-                             SiUnit(dim));
+                         std::string("unit '") + std::string(unit) +
+                             "' has the wrong dimension; expected " + SiUnit(dim));
       }
       return value * u.to_si;
     }
   }
-  throw InputError(key, "\"" + text + "\"",
-                   "unknown unit '" + std::string(unit) + "'; expected " + SiUnit(dim) + " or a multiple");
+  throw InputError(
+      key, "\"" + text + "\"",
+      "unknown unit '" + std::string(unit) + "'; expected " + SiUnit(dim) + " or a multiple");
+}
+
+double WrapToTwoPi(double angle) {
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  double w = std::fmod(angle, kTwoPi);
+  if (w < 0.0) w += kTwoPi;
+  return w >= kTwoPi ? 0.0 : w;  // round-off at the seam
 }
 
 }  // namespace flexrod

@@ -35,6 +35,10 @@ enum class Dimension {
 /// another dimension.
 double ParseQuantity(const std::string& key, const std::string& text, Dimension dim);
 
+/// θ mod 2π in [0, 2π) [rad]: the exact remainder of the double (std::fmod), so an angle of
+/// many turns keeps what its double carries.
+double WrapToTwoPi(double angle);
+
 /// The SI unit symbol for a dimension, for messages and column headers ("m", "Pa", ...).
 const char* SiUnit(Dimension dim);
 

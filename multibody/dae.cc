@@ -50,7 +50,7 @@ void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
     s->node_force.segment<4>(2 * e) += s->element_force(e) * s->element_kgw.segment<4>(4 * e);
   }
   s->Fg.noalias() = b.transverse_rows.transpose() * s->node_force;
-  s->Fg.noalias() += b.elongation_rows.transpose() * (k * s->projected_short);
+  s->Fg.noalias() += k * (b.elongation_rows.transpose() * s->projected_short);
 }
 
 // Damping of the second-order strains (Body::strain_damping): D acts on the rates of the
@@ -1183,8 +1183,7 @@ SparsityPattern JacobianPattern(const Mechanism& model) {
   return pat;
 }
 
-// ---- constraint pieces
-// ----------------------------------------------------------------------------
+// ---- constraint pieces --------------------------------------------------------------------------
 void CalcConstraints(const Mechanism& model, RunData* data, double t, const Vec& p, Vec* g) {
   const int np = model.num_coordinates(), nc = model.num_constraints();
   FLEXROD_ASSERT(p.size() == np);

@@ -113,8 +113,7 @@ SUNLinearSolver MakeTimedSolver(SUNLinearSolver inner, double* seconds, SUNConte
 
 }  // namespace
 
-// ---- DaeSystem defaults
-// ----------------------------------------------------------------------------
+// ---- DaeSystem defaults -------------------------------------------------------------------------
 void DaeSystem::AbsoluteToleranceScales(double* scales) const {
   for (int i = 0; i < size(); ++i) scales[i] = 1.0;
 }
@@ -206,8 +205,7 @@ std::string IdaFailureHint(int flag) {
   }
 }
 
-// ---- Impl: IDA objects and C callbacks
-// ---------------------------------------------------------------
+// ---- Impl: IDA objects and C callbacks ----------------------------------------------------------
 struct IdaIntegrator::Impl {
   DaeSystem* system{nullptr};
   int n{0};
@@ -446,8 +444,7 @@ static void IdaErrorHandler(int error_code, const char* module, const char* func
 
 }  // extern "C"
 
-// ---- IdaIntegrator
-// ---------------------------------------------------------------------------------
+// ---- IdaIntegrator ------------------------------------------------------------------------------
 IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options)
     : impl_(std::make_unique<Impl>()), system_(system), options_(options) {
   FLEXROD_ASSERT(system != nullptr);

@@ -87,8 +87,7 @@ double InitialEnergy(const Mechanism& model, RunData* data, const Vec& y) {
 
 }  // namespace
 
-// ---- initial conditions
-// ------------------------------------------------------------------------------
+// ---- initial conditions -------------------------------------------------------------------------
 void InitialConditionSpec::Validate(const Mechanism& model) const {
   const int np = model.num_coordinates();
   Require(coordinates.size() == 0 || coordinates.size() == np, "initial.coordinates",
@@ -328,8 +327,7 @@ void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,
   (*v)(model.coordinate(body, kTheta)) = angular_velocity;
 }
 
-// ---- MechanismDae
-// -------------------------------------------------------------------------------------
+// ---- MechanismDae -------------------------------------------------------------------------------
 MechanismDae::MechanismDae(const Mechanism& model, RunData* data,
                            const PrescribedMotion& prescribed, std::optional<IndexEventSpec> index,
                            double velocity_tol_scale, double energy_tol_scale)
@@ -448,8 +446,7 @@ double AutoVelocityTolScale(const Mechanism& model) {
   return 1.0;
 }
 
-// ---- SampleView
-// -----------------------------------------------------------------------------------------
+// ---- SampleView ---------------------------------------------------------------------------------
 SampleView::SampleView(const Mechanism& model, RunData* data, double t, const double* y,
                        const double* yp)
     : model_(model), data_(data), t_(t), y_(y), yp_(yp) {}
@@ -487,8 +484,7 @@ double SampleView::ConstraintViolation() const {
   return MaxConstraintViolation(model_, data_, t_, y_);
 }
 
-// ---- run loop
-// ---------------------------------------------------------------------------------------
+// ---- run loop -----------------------------------------------------------------------------------
 void SimulationOptions::Validate(const Mechanism& model) const {
   Require(std::isfinite(t_start), "simulation.t_start", t_start, "must be finite");
   Require(t_end > t_start && std::isfinite(t_end), "simulation.t_end", t_end,

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 #include <sstream>
 
 #include "common/error.h"
@@ -175,12 +174,7 @@ double Config::Quantity(const std::string& key) const {
   // The angle keys are crank angles, reduced to [0, 2π): a crank at 1e12 deg stands where its
   // remainder puts it, and an unreduced angle would make the integrator's relative tolerance
   // on θ meaningless (and the revolution count exceed a double's integers).
-  if (p.dim == Dimension::kAngle) {
-    constexpr double kTwoPi = 2.0 * std::numbers::pi;
-    const double w = std::fmod(v, kTwoPi);
-    return w < 0.0 ? (w + kTwoPi < kTwoPi ? w + kTwoPi : 0.0) : w;
-  }
-  return v;
+  return p.dim == Dimension::kAngle ? WrapToTwoPi(v) : v;
 }
 
 int Config::Integer(const std::string& key) const {

@@ -8,11 +8,13 @@
 
 #include "common/error.h"
 #include "common/files.h"
+#include "common/units.h"
 #include "study/signals.h"
 
 namespace flexrod::study {
 
-ContactPoint MakeContactPoint(double time, double crank_angle, const multibody::ClearanceResponse& r) {
+ContactPoint MakeContactPoint(double time, double crank_angle,
+                              const multibody::ClearanceResponse& r) {
   ContactPoint p;
   p.time = time;
   p.crank_angle = crank_angle;
@@ -98,10 +100,9 @@ void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path)
       "[s],duration [s],peak_penetration [m],dissipated_energy [J],complete [1]\n";
   char row[512];
   for (const Impact& im : impacts) {
-    std::snprintf(row, sizeof(row), "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n",
-                  im.time, im.crank_angle, im.approach_velocity, im.peak_force,
-                  im.time_of_peak_force, im.duration, im.peak_penetration,
-                  im.dissipated_energy, im.complete ? 1 : 0);
+    std::snprintf(row, sizeof(row), "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", im.time,
+                  im.crank_angle, im.approach_velocity, im.peak_force, im.time_of_peak_force,
+                  im.duration, im.peak_penetration, im.dissipated_energy, im.complete ? 1 : 0);
     text += row;
   }
   try {

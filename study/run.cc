@@ -14,6 +14,7 @@
 
 #include "common/error.h"
 #include "common/files.h"
+#include "common/units.h"
 #include "study/exact_rod_view.h"
 #include "study/signals.h"
 
@@ -676,7 +677,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     multibody::ConsistentState state = multibody::ComputeConsistentState(m, &data, 0.0, ic);
     const double period = kTwoPi / cfg.Quantity("drive.speed");
     const double to_index =
-        study::WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
+        WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
     const double t_first_index = to_index * period / kTwoPi;
     // The rod's elastic state: its elastic coordinates q (reduced rod), the nodes' deflections
     // from the chord (exact rod).

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "common/error.h"
+#include "common/units.h"
 
 namespace flexrod::study {
 namespace {
@@ -77,12 +78,6 @@ PeakStatistics StatisticsOf(std::vector<double>* peaks) {
 double Ratio(double real, double ideal) { return ideal == 0.0 ? kNaN : real / ideal; }
 
 }  // namespace
-
-double WrapToTwoPi(double angle) {
-  double w = angle - kTwoPi * std::floor(angle / kTwoPi);
-  if (w >= kTwoPi || w < 0.0) w = 0.0;  // round-off at the seam
-  return w;
-}
 
 std::vector<IndexCrossing> FindIndexCrossings(std::span<const double> crank_angle,
                                               double index_angle, double sample_rate,

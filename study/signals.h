@@ -26,9 +26,6 @@ inline constexpr double kInflectionFloor = 20.0;    // m/s², noise floor, thesi
 inline constexpr double kRigCaptureDuration = 3.0;  // s, RIG.md Table 2
 inline constexpr double kRigSampleRate = 100000.0;  // Hz, RIG.md Table 2
 
-/// θ mod 2π in [0, 2π) [rad].
-double WrapToTwoPi(double angle);
-
 // ---- index crossings and revolutions ------------------------------------------------------
 
 /// The index levels are L_k = index_angle + 2πk for every integer k. The crank passes a level L

@@ -180,6 +180,32 @@ TEST(DaeResidual, OneEvaluationDoesNotAllocate) {
   EXPECT_TRUE(r.allFinite());
 }
 
+// The Jacobian too, with the second-order strain and its Kelvin–Voigt damping (Rayleigh β):
+// its workspace lives in RunData.
+TEST(DaeJacobian, OneEvaluationDoesNotAllocate) {
+  auto c = BuildComposite(true, DampingSpec::Rayleigh(0.0, 2e-5));
+  const Mechanism& m = c.model;
+  RunData data(m);
+  Vec y, yp;
+  RandomState(m, 4, &y, &yp);
+  Mat J = Mat::Zero(m.size(), m.size());
+  ASSERT_EQ(AddJacobian(m, &data, 0.1, 11.0, y.data(), yp.data(), J.data(), m.size()), 0);
+  J.setZero();
+  Eigen::internal::set_is_malloc_allowed(false);
+#ifdef FLEXROD_COUNT_MALLOC
+  g_malloc_calls = 0;
+  g_count_malloc = true;
+#endif
+  const int rc = AddJacobian(m, &data, 0.2, 11.0, y.data(), yp.data(), J.data(), m.size());
+#ifdef FLEXROD_COUNT_MALLOC
+  g_count_malloc = false;
+  EXPECT_EQ(g_malloc_calls, 0) << "heap allocations during one Jacobian evaluation";
+#endif
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(rc, 0);
+  EXPECT_TRUE(J.allFinite());
+}
+
 // The malloc counter itself works (otherwise the test above could not fail).
 TEST(DaeResidual, AllocationCounterDetectsAnAllocation) {
 #ifdef FLEXROD_COUNT_MALLOC

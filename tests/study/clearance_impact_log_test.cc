@@ -10,8 +10,6 @@
 //    reproduces the single impact of contact::SimulateImpact (RK8(9) at 1e-12) although not one
 //    output sample falls inside the contact.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "study/impact_log.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,7 +17,9 @@
 #include <vector>
 
 #include "../multibody/clearance_fixture.h"
+#include "common/units.h"
 #include "contact/impact.h"
+#include "study/impact_log.h"
 #include "study/signals.h"
 
 namespace flexrod::study {
@@ -91,7 +91,8 @@ struct Synthetic {
   }
 };
 
-TEST(ImpactLog, OnsetApproachVelocityAndDurationAreExactAtTheEventsPeaksAndEnergyWithinThePointSpacing) {
+TEST(ImpactLog,
+     OnsetApproachVelocityAndDurationAreExactAtTheEventsPeaksAndEnergyWithinThePointSpacing) {
   const Synthetic s;
   // The record starts at 0.5T inside the first contact (started at t0) and ends at 6.5T inside
   // the fourth; the second and third (onsets t0 + 2T, t0 + 4T) are complete.
@@ -164,7 +165,8 @@ TEST(ImpactLog, ASingleEngineImpactBetweenTwoSamplesMatchesTheContactLayer) {
     cb.on_step = [&](const SampleView& s) {
       logger.Observe(MakeContactPoint(s.t(), 0.0, CalcClearanceResponse(s, p.joint)));
     };
-    const SimulationStatus st = Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), speed * n, 0.0), opt, cb);
+    const SimulationStatus st =
+        Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), speed * n, 0.0), opt, cb);
     ASSERT_TRUE(st.ok()) << st.Summary();
     EXPECT_EQ(samples_in_contact, 0);
     const std::vector<Impact> log = logger.Finish();
