@@ -157,6 +157,26 @@ TEST(DaeJacobian, NonZerosLieInsideTheSparsityPattern) {
   EXPECT_LT(pat.nnz(), static_cast<int64_t>(m.size()) * m.size());  // genuinely sparse
 }
 
+// Runs f with Eigen's allocations forbidden and returns the heap allocations it made (0 where
+// malloc cannot be counted: the Eigen guard then catches Eigen's own in assertion builds).
+template <class F>
+long HeapAllocationsDuring(F f) {
+  Eigen::internal::set_is_malloc_allowed(false);
+#ifdef FLEXROD_COUNT_MALLOC
+  g_malloc_calls = 0;
+  g_count_malloc = true;
+#endif
+  f();
+#ifdef FLEXROD_COUNT_MALLOC
+  g_count_malloc = false;
+  const long calls = g_malloc_calls;
+#else
+  const long calls = 0;
+#endif
+  Eigen::internal::set_is_malloc_allowed(true);
+  return calls;
+}
+
 TEST(DaeResidual, OneEvaluationDoesNotAllocate) {
   auto c = BuildComposite();
   const Mechanism& m = c.model;
@@ -165,17 +185,11 @@ TEST(DaeResidual, OneEvaluationDoesNotAllocate) {
   RandomState(m, 4, &y, &yp);
   Vec r(m.size());
   ASSERT_EQ(CalcResidual(m, &data, 0.1, y.data(), yp.data(), r.data()), 0);  // warm-up
-  Eigen::internal::set_is_malloc_allowed(false);
-#ifdef FLEXROD_COUNT_MALLOC
-  g_malloc_calls = 0;
-  g_count_malloc = true;
-#endif
-  const int rc = CalcResidual(m, &data, 0.2, y.data(), yp.data(), r.data());
-#ifdef FLEXROD_COUNT_MALLOC
-  g_count_malloc = false;
-  EXPECT_EQ(g_malloc_calls, 0) << "heap allocations during one residual evaluation";
-#endif
-  Eigen::internal::set_is_malloc_allowed(true);
+  int rc = -1;
+  EXPECT_EQ(HeapAllocationsDuring(
+                [&] { rc = CalcResidual(m, &data, 0.2, y.data(), yp.data(), r.data()); }),
+            0)
+      << "heap allocations during one residual evaluation";
   EXPECT_EQ(rc, 0);
   EXPECT_TRUE(r.allFinite());
 }
@@ -191,17 +205,12 @@ TEST(DaeJacobian, OneEvaluationDoesNotAllocate) {
   Mat J = Mat::Zero(m.size(), m.size());
   ASSERT_EQ(AddJacobian(m, &data, 0.1, 11.0, y.data(), yp.data(), J.data(), m.size()), 0);
   J.setZero();
-  Eigen::internal::set_is_malloc_allowed(false);
-#ifdef FLEXROD_COUNT_MALLOC
-  g_malloc_calls = 0;
-  g_count_malloc = true;
-#endif
-  const int rc = AddJacobian(m, &data, 0.2, 11.0, y.data(), yp.data(), J.data(), m.size());
-#ifdef FLEXROD_COUNT_MALLOC
-  g_count_malloc = false;
-  EXPECT_EQ(g_malloc_calls, 0) << "heap allocations during one Jacobian evaluation";
-#endif
-  Eigen::internal::set_is_malloc_allowed(true);
+  int rc = -1;
+  EXPECT_EQ(HeapAllocationsDuring([&] {
+              rc = AddJacobian(m, &data, 0.2, 11.0, y.data(), yp.data(), J.data(), m.size());
+            }),
+            0)
+      << "heap allocations during one Jacobian evaluation";
   EXPECT_EQ(rc, 0);
   EXPECT_TRUE(J.allFinite());
 }
