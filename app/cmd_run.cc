@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `flexrod run [preset-or-file.toml] [--set key=value ...] [--out DIR]` and `flexrod keys`.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "common/error.h"
 #include "study/presets.h"
 #include "study/run.h"
+#include "study/run_files.h"
 
 namespace flexrod::app {
 namespace {
@@ -62,6 +64,8 @@ int Run(const RunOptions& opt) {
       opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
   RunOutputOptions outputs;
   outputs.vtk_dir = opt.vtk_dir;
+  std::optional<RunPlotter> plotter;
+  if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
   RunResult run = RunSimulation(cfg, nullptr, false, outputs);
   if (check_cfg && run.ok()) {
     std::fprintf(stderr, "flexrod: --check: the same run at rel_tol %s, abs_tol %s\n",
@@ -73,7 +77,10 @@ int Run(const RunOptions& opt) {
     check["reference_outcome"] = multibody::ToString(reference.status.outcome);
     run.summary["accuracy_check"] = check;
   }
-  WriteRunFiles(opt.out_dir, cfg, run);
+  const auto t_files = std::chrono::steady_clock::now();
+  const double bytes = WriteRunFiles(opt.out_dir, cfg, run);
+  const double files_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_files).count();
   const auto& s = run.summary;
   std::printf("flexrod run %s -> %s\n", opt.input.c_str(), opt.out_dir.c_str());
   std::printf("  integrator: %s, %ld steps, %ld residuals, %ld Jacobians, wall %.3f s\n",
@@ -148,7 +155,8 @@ int Run(const RunOptions& opt) {
                 run.vtk->frames.size(), run.vtk->frame_rate, run.vtk->options.scale,
                 run.vtk_collection.c_str());
   }
-  if (!opt.no_plot && run.channels.num_samples() > 1) PlotRun(opt.out_dir);
+  std::printf("  files: %.3g MB in %.2f s\n", bytes * 1e-6, files_seconds);
+  if (plotter && run.channels.num_samples() > 1) plotter->Finish();
   if (!run.ok()) {
     // The status's summary: message, hint, the state's norms, the variables with the largest
     // residual and local error, and the integrator's counters.

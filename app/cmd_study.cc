@@ -18,6 +18,7 @@
 #include "contact/normal_law.h"
 #include "study/presets.h"
 #include "study/run.h"
+#include "study/run_files.h"
 #include "study/slider_crank.h"
 
 namespace flexrod::app {
@@ -63,8 +64,9 @@ void WriteTables(const std::string& dir, const std::string& title,
   std::fputs(md.str().c_str(), stdout);
 }
 
-/// Where each shared ideal twin's CSV was first written (the cases at one speed share one twin).
-using TwinCsvs = std::map<const study::TimeSeries*, std::string>;
+/// The output directory where each shared ideal twin was first written (the cases at one speed
+/// share one twin; the later cases link to it).
+using TwinDirs = std::map<const study::TimeSeries*, std::string>;
 
 /// Integrator tolerances of every study case (a --set overrides them). Impact peaks on this rig
 /// need them. Measured at joint friction 0.6, 177 rpm, 0.5 mm (peak / median per-revolution
@@ -89,17 +91,16 @@ Config CaseConfig(const StudyOptions& opt, const std::vector<std::string>& sets)
 
 /// One case of a study, run and written to dir/<tag>.
 std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag, const Config& cfg,
-                                 TwinCache* twins, TwinCsvs* twin_csvs) {
+                                 TwinCache* twins, TwinDirs* twin_dirs) {
   const auto t0 = std::chrono::steady_clock::now();
   RunOutputOptions outputs;
   outputs.twins = twins;
   const RunResult r = RunSimulation(cfg, nullptr, false, outputs);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string dir = opt.out_dir + "/" + tag;
-  const auto shared = r.ideal ? twin_csvs->find(r.ideal.get()) : twin_csvs->end();
-  WriteRunFiles(dir, cfg, r, shared == twin_csvs->end() ? "" : shared->second);
-  if (r.ideal && shared == twin_csvs->end())
-    (*twin_csvs)[r.ideal.get()] = dir + "/ideal/channels.csv";
+  const auto shared = r.ideal ? twin_dirs->find(r.ideal.get()) : twin_dirs->end();
+  WriteRunFiles(dir, cfg, r, shared == twin_dirs->end() ? "" : shared->second);
+  if (r.ideal && shared == twin_dirs->end()) (*twin_dirs)[r.ideal.get()] = dir;
   if (!opt.no_plot) PlotRun(opt.out_dir + "/" + tag);  // slider acceleration against the ideal twin
   const auto& s = r.summary;
   auto get = [&](const char* a, const char* b) {
@@ -321,11 +322,11 @@ int RunStudy(const StudyOptions& opt) {
                                          "wall [s]"};
   std::vector<std::vector<std::string>> rows;
   TwinCache twins;  // the laws (or clearances and frictions) at one speed share one ideal twin
-  TwinCsvs twin_csvs;
+  TwinDirs twin_dirs;
   for (size_t i = 0; i < cases.size(); ++i) {
     std::fprintf(stderr, "study: %s\n", cases[i].tag.c_str());
     std::vector<std::string> row = cases[i].row;
-    const auto res = RunCase(opt, cases[i].tag, configs[i], &twins, &twin_csvs);
+    const auto res = RunCase(opt, cases[i].tag, configs[i], &twins, &twin_dirs);
     row.insert(row.end(), res.begin(), res.end());
     rows.push_back(row);
   }

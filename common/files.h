@@ -7,8 +7,13 @@
 
 namespace flexrod {
 
-/// Writes `content` to `path` atomically (temporary + rename). Throws std::runtime_error.
+/// Writes `content` to `path` atomically (temporary + rename). Throws std::runtime_error
+/// naming the system's reason and the file ("No space left on device: out/run/summary.json").
 void WriteFileAtomic(const std::string& path, const std::string& content);
+
+/// Makes the completely written file `tmp` durable under `path`: fsync, rename, fsync of the
+/// directory. Throws std::runtime_error (and removes `tmp`) if the rename fails.
+void CommitFile(const std::string& tmp, const std::string& path);
 
 /// Creates a directory and its parents if missing. Throws InputError(key, path, ...) on failure.
 void EnsureDirectory(const std::string& key, const std::string& path);

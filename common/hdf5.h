@@ -24,7 +24,16 @@ class Node {
   ~Node();
   long long id() const { return id_; }
 
+  /// Closes now and checks it (a file's buffered writes fail here, e.g. on a full disk);
+  /// `what` names the object in the error. The destructor closes unchecked.
+  void Close(const std::string& what);
   bool HasChild(const std::string& name) const;
+  /// True if `name` is an external link (LinkExternal).
+  bool IsExternalLink(const std::string& name) const;
+  /// `name` becomes an external link to `object` (absolute path inside the file) in `file`;
+  /// a relative `file` resolves against the directory of the file holding the link.
+  void LinkExternal(const std::string& name, const std::string& file,
+                    const std::string& object) const;
   Node CreateGroup(const std::string& name) const;
   Node OpenGroup(const std::string& name) const;
   std::vector<std::string> Children() const;
@@ -35,6 +44,16 @@ class Node {
   void WriteVector(const std::string& name, const Vec& v, const std::string& unit = "",
                    bool compress = false) const;
   Vec ReadVector(const std::string& name) const;
+  /// A vector to write without copying it: name, "unit" attribute ("" = none), its values.
+  struct VectorView {
+    std::string name, unit;
+    const double* data;
+    std::size_t size;
+  };
+  /// Writes each vector as WriteVector(..., compress = true) does (chunks of up to 65536 rows,
+  /// byte shuffle, deflate), compressing the chunks on `threads` threads (0 = one per core);
+  /// the bytes written do not depend on the number of threads.
+  void WriteCompressedVectors(const std::vector<VectorView>& vectors, unsigned threads = 0) const;
 
   void SetAttr(const std::string& name, double value, const std::string& unit = "") const;
   void SetAttr(const std::string& name, const std::string& value) const;

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Read a flexrod sweep store (the HDF5 file `flexrod sweep` writes) with h5py.
+"""Read a flexrod sweep store (the HDF5 file `flexrod sweep` writes), or the run.h5 of one run
+(`flexrod run`), with h5py.
 
   read_store.py STORE.h5                one line per run: id, status, matrix values, peaks,
                                         load amplification
@@ -9,10 +10,16 @@
   read_store.py STORE.h5 --input ID     the run's complete input as TOML; `flexrod run FILE`
                                         reruns exactly that run
   read_store.py STORE.h5 --check-units  exit status 1 if any dataset lacks its "unit" attribute
+  read_store.py DIR/run.h5              one run (as --run), with its ideal twin's channels
+  read_store.py DIR/run.h5 --input      its complete input as TOML
+  read_store.py DIR/run.h5 --check-units
 
 Layout (docs/sweeps.md): /runs/run_NNNNN with the resolved inputs as attributes (key = SI
 value, "<key>.unit"), groups summary, inflection_points/{positive,negative},
-poincare, spectrum and channels; every dataset carries an attribute "unit".
+poincare, spectrum and channels; every dataset carries an attribute "unit". A run.h5 has the
+layout of one run at its root, plus ideal/channels (the ideal-joint twin) and impacts/<column>
+(the impact log); channels/<name> holds output.channels at output.rate (attributes sample_rate,
+start_time: sample i is at start_time + i / sample_rate).
 """
 import math
 import sys
@@ -58,9 +65,8 @@ def list_runs(f):
             amp[0], amp[1]))
 
 
-def show_run(f, run_id):
-    run = f["runs"]["run_%05d" % run_id]
-    print("run %d: %s  %s" % (run_id, text(run.attrs["status"]), long_text(run.attrs, "label")))
+def show_run(run, title):
+    print("%s: %s  %s" % (title, text(run.attrs["status"]), long_text(run.attrs, "label")))
     if long_text(run.attrs, "message"):
         print("  message:", long_text(run.attrs, "message"))
     for key in ("rod.material", "rod.height", "joint.type", "joint.clearance", "drive.speed"):
@@ -77,25 +83,41 @@ def show_run(f, run_id):
         print("  negative turning points: %d, median |a| = %.4g m/s^2" % (neg.size, np.median(np.abs(neg))))
 
 
+def check_units(groups):
+    """Exit status 1 if a dataset below any of `groups` (name -> group) lacks its unit."""
+    missing = [name + "/" + path for name in groups for path, d in datasets(groups[name])
+               if "unit" not in d.attrs]
+    count = sum(len(datasets(groups[name])) for name in groups)
+    print("%d datasets, %d without a unit" % (count, len(missing)))
+    for m in missing[:20]:
+        print("  no unit:", m)
+    return 1 if missing else 0
+
+
 def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
     with h5py.File(argv[1], "r") as f:
+        if text(f.attrs.get("format", "")).startswith("flexrod-run"):  # one run's run.h5
+            if len(argv) == 2:
+                show_run(f, argv[1])
+            elif argv[2] == "--input":
+                sys.stdout.write(long_text(f.attrs, "input_toml"))
+            elif argv[2] == "--check-units":
+                return check_units({argv[1]: f})
+            else:
+                print(__doc__, file=sys.stderr)
+                return 2
+            return 0
         if len(argv) == 2:
             list_runs(f)
         elif argv[2] == "--run":
-            show_run(f, int(argv[3]))
+            show_run(f["runs"]["run_%05d" % int(argv[3])], "run " + argv[3])
         elif argv[2] == "--input":
             sys.stdout.write(long_text(f["runs"]["run_%05d" % int(argv[3])].attrs, "input_toml"))
         elif argv[2] == "--check-units":
-            missing = [name + "/" + path for name in f["runs"] for path, d in datasets(f["runs"][name])
-                       if "unit" not in d.attrs]
-            count = sum(len(datasets(f["runs"][name])) for name in f["runs"])
-            print("%d datasets, %d without a unit" % (count, len(missing)))
-            for m in missing[:20]:
-                print("  no unit:", m)
-            return 1 if missing else 0
+            return check_units(f["runs"])
         else:
             print(__doc__, file=sys.stderr)
             return 2

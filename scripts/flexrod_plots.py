@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """flexrod plots (matplotlib, Agg backend). Run with Debian's /usr/bin/python3.
 
-  flexrod_plots.py run DIR      DIR/channels.csv (+ DIR/ideal/channels.csv) -> DIR/*.png
+  flexrod_plots.py run DIR [--wait]   DIR/run.h5 (or channels.csv + ideal/channels.csv) -> PNGs;
+                                      --wait: import now, plot when stdin says "go"
   flexrod_plots.py sweep SUMMARY.csv OUT.png   amplification factor vs speed (flexrod sweep)
   flexrod_plots.py compare DIR  DIR/comparison_NN_points.csv -> 3-D scatter and plan view PNGs
 Every PNG is written to a temporary name and renamed, so no half-written plot is left.
@@ -42,42 +43,130 @@ def save(fig, path):
     os.replace(tmp, path)
 
 
-def plot_run(directory):
-    need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
-    cols = read_csv(os.path.join(directory, "channels.csv"),
-                    need + ("time [s]", "journal_eccentricity [m]", "journal_eccentricity_x [m]",
-                            "journal_eccentricity_y [m]", "bearing_force [N]", "strain_"))
+def read_h5(path, group, wanted):
+    """The channels of `group` in a run.h5 whose "name [unit]" is in `wanted` or starts with an
+    entry ending in "_", keyed "name [unit]", plus "time [s]" from the group's sample_rate and
+    start_time. None if the group is absent."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        if group not in f:
+            return None
+        g = f[group]
+        out = {}
+        for name in g:
+            unit = g[name].attrs["unit"]
+            key = "%s [%s]" % (name, unit.decode() if isinstance(unit, bytes) else unit)
+            if any(key == w or (w.endswith("_") and key.startswith(w)) for w in wanted):
+                out[key] = g[name][:]
+        n = max((len(v) for v in out.values()), default=0)
+        out["time [s]"] = g.attrs["start_time"] + np.arange(n) / g.attrs["sample_rate"]
+        return out
+
+
+def stored_spectrum(directory):
+    """(frequency [Hz], amplitude, window) of the slider acceleration stored in run.h5, or None."""
+    path = os.path.join(directory, "run.h5")
+    if not os.path.exists(path):
+        return None
+    import h5py
+    with h5py.File(path, "r") as f:
+        if "spectrum/frequency" not in f or len(f["spectrum/frequency"]) < 2:
+            return None
+        window = f["spectrum"].attrs["window"]
+        return (f["spectrum/frequency"][:], f["spectrum/amplitude"][:],
+                window.decode() if isinstance(window, bytes) else str(window))
+
+
+def envelope(ax, x, y, lo, hi, color, label=None, pixels=1100):
+    """Per-pixel-column min/max band of y over x in [lo, hi]: what every sample drawn as a dot
+    would show, at the cost of 2 x `pixels` points instead of every sample."""
+    x = np.asarray(x)
+    y = np.asarray(y)
+    if len(x) == 0:
+        return
+    col = np.clip(((x - lo) / (hi - lo) * pixels).astype(np.int64), 0, pixels - 1)
+    order = np.argsort(col, kind="stable")
+    col, ys = col[order], y[order]
+    starts = np.concatenate(([0], np.nonzero(np.diff(col))[0] + 1))
+    centres = lo + (col[starts] + 0.5) * (hi - lo) / pixels
+    lower = np.minimum.reduceat(ys, starts)
+    upper = np.maximum.reduceat(ys, starts)
+    ax.fill_between(centres, lower, upper, step="mid", color=color, lw=0.6, edgecolor=color,
+                    label=label)
+
+
+def read_run(directory, wanted, with_ideal=True):
+    """(channels, ideal twin's channels or None) of a run directory: run.h5, else the CSVs."""
+    h5 = os.path.join(directory, "run.h5")
+    if os.path.exists(h5):
+        ideal = read_h5(h5, "ideal/channels", wanted) if with_ideal else None
+        return read_h5(h5, "channels", wanted), ideal
+    cols = read_csv(os.path.join(directory, "channels.csv"), wanted)
     ideal_path = os.path.join(directory, "ideal", "channels.csv")
-    ideal = read_csv(ideal_path, need) if os.path.exists(ideal_path) else None
-    # A run's CSV may hold a selection of channels (output.channels): draw what it has.
-    has_main = all(h in cols for h in need)
+    if not with_ideal or not os.path.exists(ideal_path):
+        return cols, None
+    return cols, read_csv(ideal_path, wanted)
+
+
+def plot_run(directory):
+    """The run's PNGs, in two processes (each reads only the channels it draws)."""
+    pid = os.fork()
+    if pid == 0:  # child: the rod and the joint
+        code = 1
+        try:
+            plot_run_rod_and_joint(directory)
+            code = 0
+        finally:
+            os._exit(code)  # a traceback, if any, is already on stderr
+    plot_run_slider(directory)
+    _, status = os.waitpid(pid, 0)
+    if status != 0:
+        raise RuntimeError("plotting the rod and the joint failed")
+
+
+def plot_run_slider(directory):
+    """Slider acceleration against the ideal twin, its spectrum, the Poincare map."""
+    need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
+    cols, ideal = read_run(directory, need + ("time [s]", "journal_eccentricity_x [m]",
+                                              "journal_eccentricity_y [m]"))
+    # A run's files may hold a selection of channels (output.channels): draw what they have.
+    if not all(h in cols for h in need):
+        return
     if ideal is not None and not all(h in ideal for h in need):
         ideal = None
-    if has_main:
-        fig, ax = plt.subplots(figsize=(9, 4.5))
-        ang = np.degrees(np.mod(cols["crank_angle [rad]"], 2 * math.pi))
-        ax.plot(ang, cols["slider_acceleration [m/s^2]"], ",", color="C0", label="model")
-        if ideal:
-            ang_i = np.degrees(np.mod(ideal["crank_angle [rad]"], 2 * math.pi))
-            ax.plot(ang_i, ideal["slider_acceleration [m/s^2]"], ",", color="C3", label="ideal joint")
-            ax.legend(markerscale=20)
-        ax.set_xlabel("crank angle [deg]")
-        ax.set_ylabel("slider acceleration [m/s^2]")
-        ax.set_xlim(0, 360)
-        ax.grid(True, alpha=0.3)
-        save(fig, os.path.join(directory, "slider_acceleration.png"))
-    if has_main:
-        plot_run_analysis(directory, cols)
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    ang = np.degrees(np.mod(cols["crank_angle [rad]"], 2 * math.pi))
+    envelope(ax, ang, cols["slider_acceleration [m/s^2]"], 0, 360, "C0", "model")
+    if ideal:
+        ang_i = np.degrees(np.mod(ideal["crank_angle [rad]"], 2 * math.pi))
+        envelope(ax, ang_i, ideal["slider_acceleration [m/s^2]"], 0, 360, "C3", "ideal joint")
+        ax.legend()
+    ax.set_xlabel("crank angle [deg]")
+    ax.set_ylabel("slider acceleration [m/s^2] (range over the revolutions)")
+    ax.set_xlim(0, 360)
+    ax.grid(True, alpha=0.3)
+    save(fig, os.path.join(directory, "slider_acceleration.png"))
+    plot_spectrum_and_poincare(directory, cols)
+
+
+def plot_run_rod_and_joint(directory):
+    """Gauge strains against time, the journal orbit, the bearing force against crank angle."""
+    cols, _ = read_run(directory, ("time [s]", "crank_angle [rad]", "journal_eccentricity_x [m]",
+                                   "journal_eccentricity_y [m]", "bearing_force [N]", "strain_"),
+                       with_ideal=False)
     strains = [h for h in cols if h.startswith("strain_")]
     if strains:
         fig, ax = plt.subplots(figsize=(9, 4.5))
-        for h in strains:
-            ax.plot(cols["time [s]"], 1e6 * cols[h], lw=0.6, label=h.split(" ")[0])
+        t = cols["time [s]"]
+        for k, h in enumerate(strains):
+            envelope(ax, t, 1e6 * cols[h], t[0], t[-1], "C%d" % k, h.split(" ")[0])
+        ax.set_xlim(t[0], t[-1])
         ax.set_xlabel("time [s]")
         ax.set_ylabel("surface strain [µm/m]")
         ax.legend()
         ax.grid(True, alpha=0.3)
         save(fig, os.path.join(directory, "rod_strain.png"))
+    plot_orbit_and_bearing_force(directory, cols)
 
 
 def _float(text):
@@ -173,21 +262,25 @@ def plot_compare(directory, max_points=20000):
         save(fig2, stem + "_plan.png")
 
 
-def plot_run_analysis(directory, cols):
-    """Spectrum, Poincare map, journal orbit and bearing force of one run."""
+def plot_spectrum_and_poincare(directory, cols):
+    """Amplitude spectrum and Poincare map of the slider acceleration."""
     t = np.asarray(cols["time [s]"])
     acc = np.asarray(cols["slider_acceleration [m/s^2]"])
     theta = np.asarray(cols["crank_angle [rad]"])
     rate = (len(t) - 1) / (t[-1] - t[0]) if len(t) > 1 else 1.0
-    # Amplitude spectrum, Hann window, amplitude-corrected (a sine of amplitude A reads A).
-    w = np.hanning(len(acc))
-    amp = 2.0 * np.abs(np.fft.rfft(acc * w)) / w.sum()
-    freq = np.fft.rfftfreq(len(acc), 1.0 / rate)
+    stored = stored_spectrum(directory)
+    if stored is not None:  # the summary's spectrum (run.h5)
+        freq, amp, window = stored
+    else:  # Hann window, amplitude-corrected (a sine of amplitude A reads A)
+        w = np.hanning(len(acc))
+        amp = 2.0 * np.abs(np.fft.rfft(acc * w)) / w.sum()
+        freq = np.fft.rfftfreq(len(acc), 1.0 / rate)
+        window = "hann"
     fig, ax = plt.subplots(figsize=(9, 4.5))
     ax.semilogy(freq[1:], amp[1:], lw=0.6)
     ax.set_xlim(0, min(freq[-1], 5000.0))
     ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("amplitude of slider acceleration [m/s^2]")
+    ax.set_ylabel("amplitude of slider acceleration [m/s^2] (%s window)" % window)
     ax.grid(True, alpha=0.3)
     save(fig, os.path.join(directory, "spectrum.png"))
     # Poincare map: one point per revolution where the crank passes the index angle (0).
@@ -195,8 +288,8 @@ def plot_run_analysis(directory, cols):
     idx = np.nonzero(np.diff(k) > 0)[0] + 1
     if len(idx) > 0:
         fig, ax = plt.subplots(figsize=(6, 4.5))
-        if "journal_eccentricity [m]" in cols:
-            e = np.asarray(cols["journal_eccentricity [m]"])
+        if "journal_eccentricity_x [m]" in cols and "journal_eccentricity_y [m]" in cols:
+            e = np.hypot(cols["journal_eccentricity_x [m]"], cols["journal_eccentricity_y [m]"])
             ax.plot(1e3 * e[idx], acc[idx], "o", ms=3)
             ax.set_xlabel("journal eccentricity at the index [mm]")
         else:
@@ -205,6 +298,10 @@ def plot_run_analysis(directory, cols):
         ax.set_ylabel("slider acceleration at the index [m/s^2]")
         ax.grid(True, alpha=0.3)
         save(fig, os.path.join(directory, "poincare.png"))
+
+
+def plot_orbit_and_bearing_force(directory, cols):
+    """Journal centre orbit in the clearance circle; bearing force against crank angle."""
     if "journal_eccentricity_x [m]" in cols and "journal_eccentricity_y [m]" in cols:
         ex = 1e3 * np.asarray(cols["journal_eccentricity_x [m]"])
         ey = 1e3 * np.asarray(cols["journal_eccentricity_y [m]"])
@@ -213,7 +310,12 @@ def plot_run_analysis(directory, cols):
         if c:
             phi = np.linspace(0, 2 * np.pi, 361)
             ax.plot(c * np.cos(phi), c * np.sin(phi), "k-", lw=0.8, label="clearance circle")
-        ax.plot(ex, ey, lw=0.4, label="journal centre")
+        # Every pixel the journal centre visited (a 600 x 600 occupancy image), not 10^5 segments.
+        lim = max(c or 0.0, np.abs(ex).max(), np.abs(ey).max()) * 1.05 or 1.0
+        hist, _, _ = np.histogram2d(ey, ex, bins=600, range=[[-lim, lim], [-lim, lim]])
+        ax.imshow(np.where(hist > 0, 1.0, np.nan), extent=(-lim, lim, -lim, lim), origin="lower",
+                  cmap="Blues", vmin=0.0, vmax=1.2, interpolation="nearest")
+        ax.plot([], [], color="C0", label="journal centre (pixels visited)")
         ax.set_aspect("equal")
         ax.set_xlabel("eccentricity x [mm]")
         ax.set_ylabel("eccentricity y [mm]")
@@ -222,7 +324,8 @@ def plot_run_analysis(directory, cols):
     if "bearing_force [N]" in cols:  # |force on the bush|: ideal reaction or contact force
         force = np.asarray(cols["bearing_force [N]"])
         fig, ax = plt.subplots(figsize=(9, 4.5))
-        ax.plot(np.degrees(np.mod(theta, 2 * np.pi)), force, ",")
+        theta = np.asarray(cols["crank_angle [rad]"])
+        envelope(ax, np.degrees(np.mod(theta, 2 * np.pi)), force, 0, 360, "C0")
         ax.set_xlim(0, 360)
         ax.set_xlabel("crank angle [deg]")
         ax.set_ylabel("small-end bearing force [N]")
@@ -309,6 +412,10 @@ def main(argv):
         print(__doc__, file=sys.stderr)
         return 2
     if argv[1] == "run":
+        # --wait: started before the run's files exist (the imports overlap the simulation);
+        # plots when "go" arrives on stdin, exits without plotting on anything else.
+        if "--wait" in argv[3:] and sys.stdin.readline().strip() != "go":
+            return 0
         plot_run(argv[2])
         return 0
     if argv[1] == "study":

@@ -303,13 +303,17 @@ const std::vector<ParamDef>& Schema() {
        "strain gauge positions along the rod from the big-end clamp [m], comma-separated"},
       {"output.midspan", K::kQuantity, D::kLength, "0",
        "position of the deflection probe along the rod [m]; 0 = midspan"},
-      {"output.channels", K::kText, D::kDimensionless, "all",
-       "channels written to a run's channels.csv (and ideal/channels.csv), comma-separated, or "
-       "all; "
-       "the summary and plots always use every channel"},
+      {"output.format", K::kText, D::kDimensionless, "hdf5",
+       "files of a run's channels: hdf5 (run.h5: every channel of the run and of its ideal "
+       "twin, the impact log, the summary; compressed), csv (channels.csv, ideal/channels.csv, "
+       "impacts.csv) or hdf5,csv"},
+      {"output.channels", K::kText, D::kDimensionless, "standard",
+       "channels written to a run's channel files (run.h5, channels.csv): standard (crank, "
+       "slider, rod angle, bearing force, journal centre, contact forces, rod deflection, gauge "
+       "strains), all, or a comma-separated list; the summary always uses every channel"},
       {"output.rate", K::kQuantity, D::kFrequency, "0",
-       "sample rate of a run's CSV files [Hz]; every n-th sample (no filtering), must divide "
-       "sim.sample_rate; 0 = sim.sample_rate"},
+       "sample rate of a run's channel files [Hz]; every n-th sample (no filtering), must "
+       "divide sim.sample_rate; 0 = sim.sample_rate"},
       // ---- ParaView output of one run (`flexrod run --vtk DIR`; study/vtk.h) ----
       {"vtk.rate", K::kQuantity, D::kFrequency, "1 kHz",
        "frame rate of the --vtk animation [Hz], > 0; a frame every round(sim.sample_rate / "

@@ -94,16 +94,43 @@ ImpactStatistics CalcImpactStatistics(const std::vector<Impact>& impacts) {
   return s;
 }
 
-void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path) {
-  std::string text =
-      "time [s],crank_angle [rad],approach_velocity [m/s],peak_force [N],time_of_peak_force "
-      "[s],duration [s],peak_penetration [m],dissipated_energy [J],complete [1]\n";
-  char row[512];
+std::vector<Channel> ImpactColumns(const std::vector<Impact>& impacts) {
+  std::vector<Channel> c = {{"time", "s", {}},
+                            {"crank_angle", "rad", {}},
+                            {"approach_velocity", "m/s", {}},
+                            {"peak_force", "N", {}},
+                            {"time_of_peak_force", "s", {}},
+                            {"duration", "s", {}},
+                            {"peak_penetration", "m", {}},
+                            {"dissipated_energy", "J", {}},
+                            {"complete", "1", {}}};
   for (const Impact& im : impacts) {
-    std::snprintf(row, sizeof(row), "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", im.time,
-                  im.crank_angle, im.approach_velocity, im.peak_force, im.time_of_peak_force,
-                  im.duration, im.peak_penetration, im.dissipated_energy, im.complete ? 1 : 0);
-    text += row;
+    const double row[] = {im.time,
+                          im.crank_angle,
+                          im.approach_velocity,
+                          im.peak_force,
+                          im.time_of_peak_force,
+                          im.duration,
+                          im.peak_penetration,
+                          im.dissipated_energy,
+                          im.complete ? 1.0 : 0.0};
+    for (std::size_t k = 0; k < c.size(); ++k) c[k].values.push_back(row[k]);
+  }
+  return c;
+}
+
+void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path) {
+  const std::vector<Channel> columns = ImpactColumns(impacts);
+  std::string text;
+  for (const Channel& c : columns) text += (text.empty() ? "" : ",") + c.name + " [" + c.unit + "]";
+  text += "\n";
+  char cell[32];
+  for (std::size_t i = 0; i < impacts.size(); ++i) {
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      std::snprintf(cell, sizeof cell, k == 0 ? "%.17g" : ",%.17g", columns[k].values[i]);
+      text += cell;
+    }
+    text += "\n";
   }
   try {
     WriteFileAtomic(path, text);

@@ -16,6 +16,7 @@
 #include "common/files.h"
 #include "common/units.h"
 #include "study/exact_rod_view.h"
+#include "study/run_files.h"
 #include "study/signals.h"
 
 namespace flexrod {
@@ -124,62 +125,6 @@ class Recorder {
   size_t size_{0};
   double first_t_{0.0};
 };
-
-/// What a run's CSV files hold: output.channels (empty = all) every `stride`-th sample
-/// (output.rate). `available` (if given) are the run's channel names, checked against the
-/// selection; throws InputError naming the key, the value and the rule.
-struct CsvSelection {
-  std::vector<std::string> channels;
-  std::size_t stride{1};
-};
-
-CsvSelection ReadCsvSelection(const Config& cfg, double sample_rate,
-                              const std::vector<std::string>* available) {
-  CsvSelection sel;
-  const std::string list = cfg.Text("output.channels");
-  if (list != "all") {
-    for (const std::string& item : SplitList(list)) {
-      if (available && std::find(available->begin(), available->end(), item) == available->end()) {
-        std::string names;
-        for (const std::string& n : *available) names += (names.empty() ? "" : ", ") + n;
-        throw InputError("output.channels", item,
-                         "is not a channel of this run; channels: " + names);
-      }
-      sel.channels.push_back(item);
-    }
-    if (sel.channels.empty())
-      throw InputError("output.channels", "\"" + list + "\"",
-                       "names no channel; use all or a list");
-  }
-  const double rate = cfg.Quantity("output.rate");
-  RequireNonNegative("output.rate", rate);
-  if (rate > 0.0) {
-    const double ratio = sample_rate / rate;
-    sel.stride = static_cast<std::size_t>(std::lround(ratio));
-    if (ratio < 1.0 - 1e-9 || std::abs(ratio - static_cast<double>(sel.stride)) > 1e-9 * ratio) {
-      throw InputError("output.rate", FormatValue(rate) + " Hz",
-                       "must divide sim.sample_rate = " + FormatValue(sample_rate) + " Hz");
-    }
-  }
-  return sel;
-}
-
-/// The CSV view of a record: the selected channels (those it has) at every stride-th sample.
-study::TimeSeries SelectForCsv(const study::TimeSeries& ts, const CsvSelection& sel) {
-  if (sel.channels.empty() && sel.stride == 1) return ts;
-  study::TimeSeries out(ts.sample_rate() / static_cast<double>(sel.stride), ts.start_time());
-  for (const study::Channel& c : ts.channels()) {
-    if (!sel.channels.empty() &&
-        std::find(sel.channels.begin(), sel.channels.end(), c.name) == sel.channels.end()) {
-      continue;
-    }
-    std::vector<double> v;
-    v.reserve(c.values.size() / sel.stride + 1);
-    for (std::size_t i = 0; i < c.values.size(); i += sel.stride) v.push_back(c.values[i]);
-    out.AddChannel(c.name, c.unit, std::move(v));
-  }
-  return out;
-}
 
 /// The rod node nearest to output.midspan (0 = midspan); InputError unless it lies on the rod.
 int ProbeNode(const Config& cfg, const fem::RodSpec& rod) {
@@ -426,7 +371,7 @@ void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
     (void)ProbeNode(cfg, *rod);
     (void)GaugePositions(cfg, *rod);
   }
-  (void)ReadCsvSelection(cfg, opt.sample_rate, nullptr);
+  (void)ReadOutputSelection(cfg, opt.sample_rate, nullptr);
 }
 
 namespace {
@@ -634,7 +579,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   if (mm.clearance.index >= 0) impacts.emplace();
   DefineChannels(cfg, mm, &rec, &gauges, impacts ? &*impacts : nullptr);
   // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
-  if (!ideal_joint) ReadCsvSelection(cfg, opt.sample_rate, &rec.names());
+  if (!ideal_joint) (void)ReadOutputSelection(cfg, opt.sample_rate, &rec.names());
   multibody::RunData data(m);
   const double rate = opt.sample_rate;
   const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
@@ -881,37 +826,6 @@ std::shared_ptr<const RunResult> TwinCache::Get(
   return twins_.Get(TwinKey(cfg), compute);
 }
 
-namespace {
-
-/// The clearance joint's resolved contact parameters (summary "joint_parameters") as notes for
-/// the resolved input: beside a joint.* key, the value the run used where the key's value
-/// differs (0 = derive); the others (pin radius, moduli, a law's internal quantities, the
-/// friction law's) listed at the end of [joint].
-Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params) {
-  Config::DerivedNotes notes;
-  for (const auto& [name, p] : params.items()) {
-    const double value = p.at("value").get<double>();
-    const std::string unit = p.at("unit").get<std::string>();
-    const std::string text = FormatValue(value) + (unit.empty() || unit == "1" ? "" : " " + unit) +
-                             " (" + p.at("source").get<std::string>() + ")";
-    std::string key = name;
-    const std::string law = "joint.law.";
-    if (key.rfind(law, 0) == 0) {
-      key = "joint." + key.substr(law.size());
-      std::replace(key.begin(), key.end(), '-', '_');
-    }
-    const ParamDef* def = FindParam(key);
-    if (def && def->kind == ParamKind::kQuantity) {
-      if (cfg.Quantity(key) != value) notes.beside[key] = "used: " + text;
-    } else {
-      notes.listed["joint"].push_back("resolved " + name + " = " + text);
-    }
-  }
-  return notes;
-}
-
-}  // namespace
-
 Config TightenedForCheck(const Config& cfg) {
   Config check = cfg;
   for (const char* key : {"sim.rel_tol", "sim.abs_tol"}) {
@@ -972,35 +886,6 @@ nlohmann::json CompareHeadlineFigures(const nlohmann::json& summary,
   out["max_difference [%]"] = worst;
   out["max_difference_figure"] = worst_name;
   return out;
-}
-
-void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run,
-                   const std::string& shared_ideal_csv) {
-  EnsureDirectory("--out", dir);
-  const CsvSelection csv = ReadCsvSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
-  const Config::DerivedNotes notes = run.summary.contains("joint_parameters")
-                                         ? JointNotes(cfg, run.summary["joint_parameters"])
-                                         : Config::DerivedNotes{};
-  WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml(notes));
-  study::WriteCsv(SelectForCsv(run.channels, csv), dir + "/channels.csv");
-  if (!run.impacts.empty()) study::WriteImpactCsv(run.impacts, dir + "/impacts.csv");
-  if (run.ideal) {
-    EnsureDirectory("--out", dir + "/ideal");
-    const std::string path = dir + "/ideal/channels.csv";
-    if (shared_ideal_csv.empty()) {
-      study::WriteCsv(SelectForCsv(*run.ideal, csv), path);
-    } else {
-      namespace fs = std::filesystem;
-      std::error_code ec;
-      fs::remove(path, ec);
-      const fs::path target =
-          fs::relative(fs::absolute(shared_ideal_csv), fs::absolute(dir + "/ideal"));
-      fs::create_symlink(target, path, ec);
-      if (ec)
-        throw InputError("--out", path, "cannot link to " + shared_ideal_csv + ": " + ec.message());
-    }
-  }
-  WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
 }
 
 }  // namespace flexrod

@@ -1,8 +1,8 @@
 // study/run.h — one run: one mechanism at one operating point, integrated, sampled at the
 // rig's rate inside the capture window (after settling, triggered at the index angle), turned
-// into unit-carrying channels and a summary; and the files a run writes (resolved input,
-// channels CSV, summary JSON, plot). What does not live here: the equations (multibody/),
-// the signal analysis (study/signals.h), sweeps (study/sweep.h).
+// into unit-carrying channels and a summary. What does not live here: the equations
+// (multibody/), the signal analysis (study/signals.h), the files a run writes
+// (study/run_files.h), sweeps (study/sweep.h).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -115,13 +115,5 @@ Config TightenedForCheck(const Config& cfg);
 /// (a rigid rod has no gauges, an ideal joint no amplification) are left out.
 nlohmann::json CompareHeadlineFigures(const nlohmann::json& summary,
                                       const nlohmann::json& reference);
-
-/// Writes resolved.toml, channels.csv, summary.json (and impacts.csv, ideal/channels.csv for
-/// clearance runs) into `dir`. Each file is written whole (temporary + rename). When
-/// `shared_ideal_csv` names an already written ideal/channels.csv of the same twin (runs of a
-/// study that share it), ideal/channels.csv becomes a relative symbolic link to it instead of a
-/// copy.
-void WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult& run,
-                   const std::string& shared_ideal_csv = "");
 
 }  // namespace flexrod

@@ -2,8 +2,6 @@
 // StoredRun: analysis of a run for the store, HDF5 layout, part files and the store file.
 #include "study/sweep_store.h"
 
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cmath>
@@ -16,6 +14,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/files.h"
 #include "study/signals.h"
 
 namespace flexrod::study {
@@ -50,11 +49,17 @@ std::string Join(const std::vector<std::string>& v) {
 /// the order and units read back without HDF5 attribute iteration.
 void WriteSeries(const h5::Node& group, const std::vector<StoredSeries>& series, bool compress) {
   std::vector<std::string> names, units;
+  std::vector<h5::Node::VectorView> compressed;
   for (const StoredSeries& s : series) {
-    group.WriteVector(s.name, ToVec(s.values), s.unit.empty() ? "1" : s.unit, compress);
     names.push_back(s.name);
     units.push_back(s.unit.empty() ? "1" : s.unit);
+    if (compress && !s.values.empty()) {
+      compressed.push_back({s.name, units.back(), s.values.data(), s.values.size()});
+    } else {
+      group.WriteVector(s.name, ToVec(s.values), units.back());
+    }
   }
+  group.WriteCompressedVectors(compressed);
   group.SetAttr("names", Join(names));
   group.SetAttr("units", Join(units));
 }
@@ -129,23 +134,12 @@ StoredPoints ToStored(const std::vector<TurningPoint>& points) {
   return p;
 }
 
-void FsyncPath(const std::string& path, bool directory) {
-  const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
-  if (fd < 0) return;  // best effort: a file system without fsync still gets rename atomicity
-  (void)::fsync(fd);
-  ::close(fd);
-}
-
 void CommitTemporary(const std::string& tmp, const std::string& path) {
-  FsyncPath(tmp, false);
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw NumericalError("cannot rename " + tmp + " to " + path);
+  try {
+    CommitFile(tmp, path);
+  } catch (const std::runtime_error& e) {
+    throw NumericalError(e.what());
   }
-  const std::string dir = fs::path(path).parent_path().string();
-  FsyncPath(dir.empty() ? "." : dir, true);
 }
 
 bool SameBits(double a, double b) {
@@ -271,7 +265,8 @@ StoredRun AnalyseRun(const Config& cfg, const RunResult& run, const StoreOptions
                            ? run.summary["load_amplification"]
                            : nlohmann::json();
       auto ratio = [&la](const char* key) {
-        return la.is_object() && la.contains(key) && la[key].is_number() ? la[key].get<double>() : kNaN;
+        return la.is_object() && la.contains(key) && la[key].is_number() ? la[key].get<double>()
+                                                                         : kNaN;
       };
       add("amplification_bearing_force", ratio("bearing_force"), "1");
       add("amplification_bearing_force_p95", ratio("bearing_force_p95"), "1");
@@ -350,7 +345,7 @@ std::string RunGroupName(int id) {
   return buf;
 }
 
-void WriteStoredRun(const h5::Node& g, const StoredRun& run) {
+void WriteStoredRun(const h5::Node& g, const StoredRun& run, bool with_channels) {
   g.SetAttr("run_id", static_cast<double>(run.id), "1");
   g.SetAttr("fingerprint", run.fingerprint);
   g.SetAttr("status", run.status);
@@ -397,13 +392,18 @@ void WriteStoredRun(const h5::Node& g, const StoredRun& run) {
         sp, {{"frequency", "Hz", run.frequency}, {"amplitude", run.amplitude_unit, run.amplitude}},
         true);
   }
-  {
-    const h5::Node ch = g.CreateGroup("channels");
-    ch.SetAttr("sample_rate", run.channel_rate, "Hz");
-    ch.SetAttr("start_time", run.channel_start, "s");
-    ch.SetAttr("decimation", run.decimation, "1");
-    WriteSeries(ch, run.channels, true);
+  if (with_channels) {
+    WriteChannels(g.CreateGroup("channels"), run.channel_rate, run.channel_start, run.decimation,
+                  run.channels);
   }
+}
+
+void WriteChannels(const h5::Node& group, double rate, double start, double decimation,
+                   const std::vector<StoredSeries>& channels) {
+  group.SetAttr("sample_rate", rate, "Hz");
+  group.SetAttr("start_time", start, "s");
+  group.SetAttr("decimation", decimation, "1");
+  WriteSeries(group, channels, true);
 }
 
 StoredRun ReadStoredRun(const h5::Node& g, bool with_channels) {

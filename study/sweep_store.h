@@ -32,14 +32,12 @@
 #include "study/config.h"
 #include "study/run.h"
 #include "study/sweep_matrix.h"
+#include "study/timeseries.h"
 
 namespace flexrod::study {
 
-struct StoredSeries {
-  std::string name;
-  std::string unit;
-  std::vector<double> values;  ///< [unit]
-};
+/// A stored series: name, unit, values [unit] (a channel, a column of points or of impacts).
+using StoredSeries = Channel;
 
 struct StoredScalar {
   std::string name;
@@ -104,8 +102,13 @@ StoredRun AnalyseRun(const Config& cfg, const RunResult& run, const StoreOptions
 StoredRun FailedRun(const Config& cfg, const StoreOptions& store, const std::string& status,
                     const std::string& message);
 
-/// Writes a run into an (empty) group or file root / reads it back.
-void WriteStoredRun(const h5::Node& group, const StoredRun& run);
+/// Writes a run into an (empty) group or file root / reads it back. `with_channels` = false
+/// leaves out the group "channels" (the caller writes it with WriteChannels).
+void WriteStoredRun(const h5::Node& group, const StoredRun& run, bool with_channels = true);
+/// A channels group: attributes sample_rate [Hz], start_time [s], decimation [1], and one
+/// chunked, shuffled, deflated dataset per channel (attribute "unit"), in order.
+void WriteChannels(const h5::Node& group, double rate, double start, double decimation,
+                   const std::vector<StoredSeries>& channels);
 /// `with_channels` = false skips the channel datasets (comparisons need only the points).
 StoredRun ReadStoredRun(const h5::Node& group, bool with_channels = true);
 

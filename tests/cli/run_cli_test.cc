@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,16 @@
 #include <string>
 #include <vector>
 
+#include "common/hdf5.h"
+#include "study/run_files.h"
+#include "study/sweep_store.h"
+
 namespace {
+
+using flexrod::IsStandardChannel;
+using flexrod::Vec;
+namespace h5 = flexrod::h5;
+namespace study = flexrod::study;
 
 namespace fs = std::filesystem;
 
@@ -49,7 +59,8 @@ TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
                            "--set sim.sample_rate=2kHz --out " +
                            out.string());
     EXPECT_EQ(rc, 0) << preset;
-    EXPECT_TRUE(fs::exists(out / "channels.csv")) << preset;
+    EXPECT_TRUE(fs::exists(out / "run.h5")) << preset;
+    EXPECT_FALSE(fs::exists(out / "channels.csv")) << preset;  // CSV only on request
     EXPECT_TRUE(fs::exists(out / "resolved.toml")) << preset;
     std::ifstream in(out / "summary.json");
     const nlohmann::json s = nlohmann::json::parse(in);
@@ -245,14 +256,18 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
                          std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("rel_tol = 1e-08"), std::string::npos);
   EXPECT_NE(text.find("abs_tol = 1e-10"), std::string::npos);
-  // The six cases share one ideal twin: its CSV is written once, the others link to it.
-  const fs::path first = out / "c0.5mm-mu0.2" / "ideal" / "channels.csv";
-  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(first)));
-  for (const char* tag :
-       {"c0.5mm-mu0.4", "c0.5mm-mu0.6", "c1.0mm-mu0.2", "c1.0mm-mu0.4", "c1.0mm-mu0.6"}) {
-    const fs::path p = out / tag / "ideal" / "channels.csv";
-    EXPECT_TRUE(fs::is_symlink(p)) << tag;
-    EXPECT_TRUE(fs::equivalent(p, first)) << tag;
+  // The six cases share one ideal twin: it is written once, into the first case's run.h5;
+  // the others hold an external link to it, which reads back the same data.
+  {
+    const h5::Node first = h5::OpenFile((out / "c0.5mm-mu0.2" / "run.h5").string());
+    const Vec twin = first.ReadVector("ideal/channels/slider_acceleration");
+    ASSERT_GT(twin.size(), 100);
+    for (const char* tag :
+         {"c0.5mm-mu0.4", "c0.5mm-mu0.6", "c1.0mm-mu0.2", "c1.0mm-mu0.4", "c1.0mm-mu0.6"}) {
+      const h5::Node f = h5::OpenFile((out / tag / "run.h5").string());
+      EXPECT_TRUE(f.IsExternalLink("ideal")) << tag;
+      EXPECT_TRUE(f.ReadVector("ideal/channels/slider_acceleration") == twin) << tag;
+    }
   }
   fs::remove_all(out);
   EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()), 2);
@@ -349,16 +364,102 @@ TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
   fs::remove_all(again);
 }
 
-// output.channels / output.rate: what a run's CSV files hold.
+/// The numeric rows of a CSV file (header skipped), and its header.
+std::vector<std::vector<double>> ReadCsvRows(const fs::path& path, std::string* header) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, *header);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) row.push_back(std::stod(cell));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+// run.h5 (the default) holds the standard channels of the run and of its ideal twin, the
+// impact log and the summary, bit for bit the numbers of the CSV files (%.17g round-trips).
+TEST(RunCli, RunFileHoldsTheChannelsTwinImpactsAndSummaryOfTheCsv) {
+  const fs::path out = TempDir("run_h5");
+  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.2s "
+                    "--set sim.sample_rate=20kHz --set output.format=hdf5,csv --out " +
+                    out.string()),
+            0);
+  const h5::Node file = h5::OpenFile((out / "run.h5").string());
+  EXPECT_EQ(file.GetString("format"), "flexrod-run 1");
+  const study::StoredRun run = study::ReadStoredRun(file);
+  std::string header;
+  const auto rows = ReadCsvRows(out / "channels.csv", &header);
+  ASSERT_EQ(rows.size(), 4000u);
+  // The CSV holds the same standard selection, after its time column.
+  std::string expected = "time [s]";
+  for (const study::StoredSeries& c : run.channels) {
+    EXPECT_TRUE(IsStandardChannel(c.name)) << c.name;
+    expected += "," + c.name + " [" + c.unit + "]";
+  }
+  EXPECT_EQ(header, expected);
+  for (const char* name : {"slider_acceleration", "bearing_force", "journal_eccentricity_x",
+                           "contact_normal_force", "crank_angle"}) {
+    EXPECT_NE(header.find(std::string(name) + " ["), std::string::npos) << name;
+  }
+  EXPECT_EQ(header.find("penetration ["), std::string::npos);  // derived: not standard
+  for (std::size_t c = 0; c < run.channels.size(); ++c) {
+    ASSERT_EQ(run.channels[c].values.size(), rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      ASSERT_EQ(run.channels[c].values[i], rows[i][c + 1]) << run.channels[c].name << " " << i;
+    }
+  }
+  EXPECT_EQ(run.channel_rate, 20000.0);
+  EXPECT_EQ(run.channel_start, rows[0][0]);
+  // The ideal twin.
+  const Vec ideal = file.ReadVector("ideal/channels/slider_acceleration");
+  const auto ideal_rows = ReadCsvRows(out / "ideal" / "channels.csv", &header);
+  const std::size_t col = static_cast<std::size_t>(
+      std::count(header.begin(), header.begin() + header.find("slider_acceleration ["), ','));
+  ASSERT_EQ(static_cast<std::size_t>(ideal.size()), ideal_rows.size());
+  for (std::size_t i = 0; i < ideal_rows.size(); ++i) ASSERT_EQ(ideal[i], ideal_rows[i][col]);
+  // The impact log.
+  const auto impacts = ReadCsvRows(out / "impacts.csv", &header);
+  ASSERT_GT(impacts.size(), 0u);
+  const Vec peak = file.ReadVector("impacts/peak_force");
+  ASSERT_EQ(static_cast<std::size_t>(peak.size()), impacts.size());
+  for (std::size_t i = 0; i < impacts.size(); ++i) EXPECT_EQ(peak[i], impacts[i][3]);
+  // The summary, as in summary.json.
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(nlohmann::json::parse(run.summary_json), s);
+  EXPECT_EQ(run.Summary("peak_positive"), s["slider_acceleration"]["peak_positive"].get<double>());
+  // examples/read_store.py reads it, and finds a unit on every dataset.
+  EXPECT_EQ(WEXITSTATUS(std::system((std::string(FLEXROD_PYTHON) +
+                                     " " FLEXROD_SOURCE_DIR "/examples/read_store.py " +
+                                     (out / "run.h5").string() + " --check-units >/dev/null")
+                                        .c_str())),
+            0);
+  // A run into the same directory that writes HDF5 only removes the CSV files it replaces.
+  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.01s --out " +
+                    out.string()),
+            0);
+  EXPECT_TRUE(fs::exists(out / "run.h5"));
+  EXPECT_FALSE(fs::exists(out / "channels.csv"));
+  EXPECT_FALSE(fs::exists(out / "ideal"));
+  EXPECT_FALSE(fs::exists(out / "impacts.csv"));
+  fs::remove_all(out);
+}
+
+// output.channels / output.rate: what a run's channel files hold.
 TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
   const fs::path out = TempDir("csv_select");
   ASSERT_EQ(
       Flexrod(
           "run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
           "--set output.channels=\"slider_acceleration, penetration\" --set output.rate=\"10 kHz\" "
-          "--out " +
+          "--set output.format=csv --out " +
           out.string()),
       0);
+  EXPECT_FALSE(fs::exists(out / "run.h5"));
   std::ifstream in(out / "channels.csv");
   std::string header, line;
   std::getline(in, header);
@@ -382,9 +483,11 @@ TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
 }
 
 TEST(RunCli, BadCsvSelectionExitsWithTwoBeforeTheRun) {
-  ExpectExitTwoAndNoOutput("csv_bad", {"run rigid-rig --set output.channels=penetrashun",
-                                       "run rigid-rig --set output.rate=\"30 kHz\"",
-                                       "run rigid-rig --set output.rate=\"-1 kHz\""});
+  ExpectExitTwoAndNoOutput(
+      "csv_bad",
+      {"run rigid-rig --set output.channels=penetrashun",
+       "run rigid-rig --set output.rate=\"30 kHz\"", "run rigid-rig --set output.rate=\"-1 kHz\"",
+       "run rigid-rig --set output.format=xml", "run rigid-rig --set output.format=\"\""});
 }
 
 // `flexrod run --vtk DIR`: the ParaView output of one run, and its bad-input path.
