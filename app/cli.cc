@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include <CLI/CLI.hpp>
 #include <gsl/gsl_errno.h>
 
+#include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "app/commands.h"
@@ -10,7 +10,8 @@
 namespace flexrod::app {
 
 int Main(int argc, char** argv) {
-  CLI::App app{"flexrod — flexible connecting rods in slider-crank mechanisms with a clearance joint"};
+  CLI::App app{
+      "flexrod — flexible connecting rods in slider-crank mechanisms with a clearance joint"};
   app.require_subcommand(1);
   gsl_set_error_handler_off();  // every GSL status is checked where it is returned
   Handler handler;
@@ -34,9 +35,15 @@ int Main(int argc, char** argv) {
   } catch (const NumericalError& e) {
     std::cerr << "flexrod: numerical failure: " << e.what() << "\n";
     return 1;
+  } catch (const IoError& e) {
+    std::cerr << "flexrod: I/O error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "flexrod: internal error: out of memory\n";
+    return 4;
   } catch (const std::exception& e) {
-    std::cerr << "flexrod: " << e.what() << "\n";
-    return 1;
+    std::cerr << "flexrod: internal error (please report it): " << e.what() << "\n";
+    return 4;
   }
 }
 

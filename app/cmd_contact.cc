@@ -87,7 +87,7 @@ void RunPlotScript(const std::string& csv, const std::string& png, const std::st
   argv.push_back(nullptr);
   std::fflush(stdout);
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("contact --plot: fork failed");
+  if (pid < 0) throw IoError("contact --plot: fork failed");
   if (pid == 0) {
     setenv("MPLBACKEND", "Agg", 1);
     execv(kPython, argv.data());
@@ -95,10 +95,10 @@ void RunPlotScript(const std::string& csv, const std::string& png, const std::st
   }
   int status = 0;
   if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw std::runtime_error("contact --plot: " + std::string(kPython) + " " + script +
-                             " failed (exit status " +
-                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                             "); is matplotlib installed?");
+    throw IoError("contact --plot: " + std::string(kPython) + " " + script +
+                  " failed (exit status " +
+                  std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                  "); is matplotlib installed?");
   }
 }
 
@@ -116,13 +116,13 @@ void WritePlot(const std::string& png, const contact::ImpactResult& result,
   } remove_csv{csv};
   {
     std::ofstream out(csv);
-    if (!out) throw std::runtime_error("contact --plot: cannot write " + csv.string());
+    if (!out) throw IoError("contact --plot: cannot write " + csv.string());
     out << "time [s],penetration [m],rate [m/s],force [N]\n";
     out.precision(17);
     for (const auto& s : result.loop) {
       out << s.time << ',' << s.penetration << ',' << s.rate << ',' << s.force << '\n';
     }
-    if (!out) throw std::runtime_error("contact --plot: cannot write " + csv.string());
+    if (!out) throw IoError("contact --plot: cannot write " + csv.string());
   }
   RunPlotScript(csv.string(), png, title);
 }
@@ -219,9 +219,11 @@ int RunContact(const ContactOptions& opt) {
     std::printf("  %-30s %.10g %s (%s)\n", p.name.c_str(), p.value, p.unit.c_str(),
                 p.source.c_str());
     if (p.name == "min-approach-velocity" && velocity < p.value) {
-      warning = "the approach velocity " + FormatValue(velocity) + " m/s is below min-approach-velocity = " +
-                FormatValue(p.value) + " m/s: the hysteresis damping uses the floor, so the achieved restitution "
-                "is above the one this law gives at its own speed; lower --min-approach-velocity to remove it";
+      warning = "the approach velocity " + FormatValue(velocity) +
+                " m/s is below min-approach-velocity = " + FormatValue(p.value) +
+                " m/s: the hysteresis damping uses the floor, so the achieved restitution "
+                "is above the one this law gives at its own speed; lower --min-approach-velocity "
+                "to remove it";
     }
   }
   if (!warning.empty()) std::fprintf(stderr, "flexrod: warning: %s\n", warning.c_str());

@@ -1,10 +1,15 @@
-// common/error.h — the three error tiers of flexrod (STYLE.md §12).
+// common/error.h — the error tiers of flexrod (STYLE.md §12) and the CLI's exit codes
+// (app/cli.cc; the same for every command):
 //
-// * Programmer bug: FLEXROD_ASSERT (debug assertion).
 // * Bad user input: InputError, thrown before any work starts; its message names the key,
-//   the value and the rule, e.g. "rod.height = -3 mm: must be > 0". The CLI maps it to exit 2.
+//   the value and the rule, e.g. "rod.height = -3 mm: must be > 0". Exit 2.
 // * Numerical outcome (integrator failure, no convergence): NumericalError, carrying time,
-//   state and a hint; callers keep what was computed so far.
+//   state and a hint; callers keep what was computed so far. Exit 1.
+// * Storage: IoError, a file that cannot be written (or a file flexrod wrote that cannot be
+//   read back), naming the file and the system's reason ("No space left on device: out/run/
+//   run.h5"); nothing is left under the file's final name. Exit 3.
+// * Programmer bug: FLEXROD_ASSERT (debug assertion); any other exception (a logic error,
+//   out of memory) is internal. Exit 4.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -21,7 +26,10 @@ namespace flexrod {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& key, const std::string& value, const std::string& rule)
-      : std::runtime_error(key + " = " + value + ": " + rule), key_(key), value_(value), rule_(rule) {}
+      : std::runtime_error(key + " = " + value + ": " + rule),
+        key_(key),
+        value_(value),
+        rule_(rule) {}
   const std::string& key() const { return key_; }
   const std::string& value() const { return value_; }
   const std::string& rule() const { return rule_; }
@@ -34,6 +42,12 @@ class InputError : public std::runtime_error {
 class NumericalError : public std::runtime_error {
  public:
   explicit NumericalError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// A file that cannot be written or read back. what() reads "<reason>: <file>".
+class IoError : public std::runtime_error {
+ public:
+  explicit IoError(const std::string& what) : std::runtime_error(what) {}
 };
 
 /// Formats a double for error messages with enough digits to be unambiguous.

@@ -4,8 +4,10 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -25,10 +27,12 @@ void FsyncPath(const std::string& path, bool directory) {
 
 }  // namespace
 
-void WriteFileAtomic(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp";
+namespace {
+
+/// Writes `content` to `tmp` (fwrite and fclose checked); IoError naming `path` otherwise.
+void WriteTemporary(const std::string& tmp, const std::string& content, const std::string& path) {
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (f == nullptr) throw std::runtime_error("cannot write " + tmp + ": " + std::strerror(errno));
+  if (f == nullptr) throw IoError(std::string(std::strerror(errno)) + ": " + tmp);
   const bool written = std::fwrite(content.data(), 1, content.size(), f) == content.size();
   const int write_errno = errno;
   // fclose flushes the buffer: on a full disk the error may surface only here.
@@ -36,22 +40,51 @@ void WriteFileAtomic(const std::string& path, const std::string& content) {
   if (!written || !closed) {
     const int e = !written ? write_errno : errno;
     std::remove(tmp.c_str());
-    throw std::runtime_error(std::string(std::strerror(e)) + ": " + path);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + std::strerror(e));
+    throw IoError(std::string(std::strerror(e)) + ": " + path);
   }
 }
 
+/// FLEXROD_FAIL_WRITE=N: the N-th file committed in this process fails as on a full disk
+/// (fault injection for the tests of what survives a failed write).
+void InjectedFault(const std::string& tmp, const std::string& path) {
+  static const long fail_at = [] {
+    const char* env = std::getenv("FLEXROD_FAIL_WRITE");
+    return env ? std::atol(env) : 0L;
+  }();
+  static std::atomic<long> count{0};
+  if (fail_at > 0 && ++count == fail_at) {
+    std::remove(tmp.c_str());
+    throw IoError(std::string(std::strerror(ENOSPC)) + ": " + path);
+  }
+}
+
+}  // namespace
+
+void WriteFileAtomic(const std::string& path, const std::string& content) {
+  const std::string tmp = path + ".tmp";
+  WriteTemporary(tmp, content, path);
+  InjectedFault(tmp, path);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    throw IoError("cannot rename " + tmp + " to " + path + ": " + std::strerror(e));
+  }
+}
+
+void WriteFileDurable(const std::string& path, const std::string& content) {
+  const std::string tmp = path + ".tmp";
+  WriteTemporary(tmp, content, path);
+  CommitFile(tmp, path);
+}
+
 void CommitFile(const std::string& tmp, const std::string& path) {
+  InjectedFault(tmp, path);
   FsyncPath(tmp, false);
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
+    throw IoError("cannot rename " + tmp + " to " + path + ": " + ec.message());
   }
   const std::string dir = std::filesystem::path(path).parent_path().string();
   FsyncPath(dir.empty() ? "." : dir, true);

@@ -1,5 +1,7 @@
 // common/files.h — output files are written whole or not at all: write to "<path>.tmp" and
-// rename over the target, so an error never leaves a half-written result.
+// rename over the target, so an error never leaves a half-written result. Every write is
+// checked; a failure is an IoError naming the file and the system's reason. For tests,
+// FLEXROD_FAIL_WRITE=N makes the N-th file committed in the process fail as on a full disk.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -7,12 +9,15 @@
 
 namespace flexrod {
 
-/// Writes `content` to `path` atomically (temporary + rename). Throws std::runtime_error
+/// Writes `content` to `path` atomically (temporary + rename). Throws IoError
 /// naming the system's reason and the file ("No space left on device: out/run/summary.json").
 void WriteFileAtomic(const std::string& path, const std::string& content);
 
+/// As WriteFileAtomic, and durable (CommitFile): parts and stores of a sweep.
+void WriteFileDurable(const std::string& path, const std::string& content);
+
 /// Makes the completely written file `tmp` durable under `path`: fsync, rename, fsync of the
-/// directory. Throws std::runtime_error (and removes `tmp`) if the rename fails.
+/// directory. Throws IoError (and removes `tmp`) if the rename fails.
 void CommitFile(const std::string& tmp, const std::string& path);
 
 /// Creates a directory and its parents if missing. Throws InputError(key, path, ...) on failure.

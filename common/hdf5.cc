@@ -18,11 +18,11 @@ constexpr unsigned kDeflateLevel = 1;
 constexpr hsize_t kChunkRows = 65536;
 
 hid_t Check(hid_t id, const char* call, const std::string& what) {
-  if (id < 0) throw NumericalError(std::string("HDF5 ") + call + " failed for '" + what + "'");
+  if (id < 0) throw IoError(std::string("HDF5 ") + call + " failed for '" + what + "'");
   return id;
 }
 void CheckStatus(herr_t st, const char* call, const std::string& what) {
-  if (st < 0) throw NumericalError(std::string("HDF5 ") + call + " failed for '" + what + "'");
+  if (st < 0) throw IoError(std::string("HDF5 ") + call + " failed for '" + what + "'");
 }
 
 struct Handle {  // closes any hid_t with the given closer
@@ -172,7 +172,7 @@ Mat Node::ReadMatrix(const std::string& name) const {
   Handle space{Check(H5Dget_space(set.id), "H5Dget_space", name), H5Sclose};
   hsize_t dims[2] = {0, 1};
   const int rank = H5Sget_simple_extent_ndims(space.id);
-  if (rank < 1 || rank > 2) throw NumericalError("HDF5 dataset '" + name + "' is not a matrix");
+  if (rank < 1 || rank > 2) throw IoError("HDF5 dataset '" + name + "' is not a matrix");
   H5Sget_simple_extent_dims(space.id, dims, nullptr);
   if (rank == 1) dims[1] = 1;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm(dims[0], dims[1]);
@@ -248,7 +248,7 @@ void Node::WriteCompressedVectors(const std::vector<VectorView>& vectors, unsign
   for (unsigned t = 1; t < n; ++t) pool.emplace_back(work);
   work();
   for (std::thread& t : pool) t.join();
-  if (failed) throw NumericalError("zlib compress2 failed");
+  if (failed) throw IoError("zlib compress2 failed");
   std::size_t c = 0;
   for (std::size_t k = 0; k < vectors.size(); ++k) {
     const VectorView& v = vectors[k];

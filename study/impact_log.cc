@@ -132,11 +132,7 @@ void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path)
     }
     text += "\n";
   }
-  try {
-    WriteFileAtomic(path, text);
-  } catch (const std::runtime_error& e) {
-    throw InputError("csv", path, e.what());
-  }
+  WriteFileAtomic(path, text);
 }
 
 }  // namespace flexrod::study

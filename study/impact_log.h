@@ -96,7 +96,7 @@ ImpactStatistics CalcImpactStatistics(const std::vector<Impact>& impacts);
 std::vector<Channel> ImpactColumns(const std::vector<Impact>& impacts);
 
 /// The columns as CSV ("time [s],crank_angle [rad],...", %.17g), written whole (path + ".tmp", then
-/// rename). InputError("csv", path, ...) if it cannot be written.
+/// rename). IoError naming the file if it cannot be written.
 void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path);
 
 }  // namespace flexrod::study

@@ -96,7 +96,7 @@ void WriteRunH5(const std::string& dir, const Config& cfg, const RunResult& run,
   } catch (const std::exception& e) {
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw std::runtime_error(std::string("cannot write ") + path + ": " + e.what());
+    throw IoError(std::string(e.what()) + " (writing " + path + ")");
   }
   CommitFile(tmp, path);
 }
@@ -118,9 +118,7 @@ void WriteRunCsv(const std::string& dir, const RunResult& run, const OutputSelec
   const fs::path target = fs::relative(fs::absolute(shared_twin_dir + "/ideal/channels.csv"),
                                        fs::absolute(dir + "/ideal"));
   fs::create_symlink(target, path, ec);
-  if (ec)
-    throw std::runtime_error("cannot link " + path + " to " + target.string() + ": " +
-                             ec.message());
+  if (ec) throw IoError("cannot link " + path + " to " + target.string() + ": " + ec.message());
 }
 
 }  // namespace
@@ -220,9 +218,10 @@ double WriteRunFiles(const std::string& dir, const Config& cfg, const RunResult&
   }
   fs::remove(dir + "/ideal", ec);  // only if empty
   WriteFileAtomic(dir + "/resolved.toml", cfg.ResolvedToml(notes));
+  // The summary first: the figures survive a disk that fills up with the channels.
+  WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
   if (sel.hdf5) WriteRunH5(dir, cfg, run, sel, shared_twin_dir);
   if (sel.csv) WriteRunCsv(dir, run, sel, shared_twin_dir);
-  WriteFileAtomic(dir + "/summary.json", run.summary.dump(2) + "\n");
   double bytes = 0.0;
   for (const char* f : {"resolved.toml", "summary.json", "run.h5", "channels.csv", "impacts.csv",
                         "ideal/channels.csv"}) {

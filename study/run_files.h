@@ -51,7 +51,7 @@ study::TimeSeries SelectChannels(const study::TimeSeries& ts, const OutputSelect
 /// Writes the run's files into `dir` (created if missing), each whole (temporary + rename).
 /// `shared_twin_dir` (optional) is the output directory of an earlier run of the same study
 /// with the same ideal-joint twin: the twin is then linked to its files (an HDF5 external link,
-/// a relative symbolic link for CSV) instead of written again. Throws std::runtime_error naming
+/// a relative symbolic link for CSV) instead of written again. Throws IoError naming
 /// the file and the system's reason if a write fails; nothing is left under a final name then.
 /// Files of the format not selected (a previous run's channels.csv, run.h5) are removed.
 /// Returns the bytes written [B].

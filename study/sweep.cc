@@ -100,9 +100,7 @@ StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, Twi
     out = FailedRun(cfg, matrix.store, "input-error", e.what());
   } catch (const NumericalError& e) {
     out = FailedRun(cfg, matrix.store, "numerical-error", e.what());
-  } catch (const std::exception& e) {
-    out = FailedRun(cfg, matrix.store, "error", e.what());
-  }
+  }  // anything else (a logic error, out of memory) is not a result of the run: it stops the sweep
   out.id = id;
   out.label = matrix.runs[id].Label();
   out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -211,8 +209,7 @@ StoredRun SweepSession::SaveBytes(int id, const std::string& bytes) {
   StoredRun back = ReadPartFile(path, false);
   if (back.fingerprint != fingerprints_.at(static_cast<std::size_t>(id))) {
     fs::remove(path);
-    throw NumericalError("part received for run " + std::to_string(id) +
-                         " has another fingerprint");
+    throw IoError("part received for run " + std::to_string(id) + " has another fingerprint");
   }
   return back;
 }
@@ -237,8 +234,8 @@ SweepSession::Outcome SweepSession::Assemble(bool keep_parts) {
     } else if (previous.Has(fp)) {
       *run = previous.Read(fp);
     } else {
-      throw NumericalError("run " + std::to_string(next_id) + " has no result: neither " + part +
-                           " nor in " + store_path_);
+      throw IoError("run " + std::to_string(next_id) + " has no result: neither " + part +
+                    " nor in " + store_path_);
     }
     run->id = next_id;
     run->label = matrix_.runs[static_cast<std::size_t>(next_id)].Label();

@@ -46,8 +46,8 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods);
 
 /// Computes run `id` into what the store keeps, sharing rods and ideal-joint twins with the
 /// other runs through the caches (`twins` may be null: every clearance run computes its twin).
-/// Never throws: an integrator failure, a NumericalError or an input rejected inside the solver
-/// become a failed run with its message.
+/// An integrator failure, a NumericalError or an input rejected inside the solver become a
+/// failed run with its message; any other exception (a logic error, out of memory) propagates.
 StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins);
 
 /// `ids` in the order to compute them on `jobs` threads so that a TwinCache of `jobs` twins
@@ -95,8 +95,9 @@ class SweepSession {
     std::string store_path;
   };
   /// Writes FILE.h5 (temporary + rename) from the parts and the previous store, in run-id
-  /// order; removes the parts directory afterwards unless keep_parts. NumericalError if a run
-  /// has no result.
+  /// order; removes the parts directory afterwards unless keep_parts (and only after the store is
+  /// written, closed, read back complete and renamed). IoError if a run has no result or the
+  /// store cannot be written; the parts are then kept, so that a rerun resumes from them.
   Outcome Assemble(bool keep_parts);
 
  private:

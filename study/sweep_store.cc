@@ -2,7 +2,6 @@
 // StoredRun: analysis of a run for the store, HDF5 layout, part files and the store file.
 #include "study/sweep_store.h"
 
-
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -67,7 +66,7 @@ std::vector<StoredSeries> ReadSeries(const h5::Node& group) {
   const std::vector<std::string> names = SplitList(group.GetString("names"));
   const std::vector<std::string> units = SplitList(group.GetString("units"));
   if (units.size() != names.size())
-    throw NumericalError("store: names and units of a group differ in count");
+    throw IoError("store: names and units of a group differ in count");
   std::vector<StoredSeries> out;
   for (std::size_t i = 0; i < names.size(); ++i)
     out.push_back({names[i], units[i], ToStd(group.ReadVector(names[i]))});
@@ -132,14 +131,6 @@ StoredPoints ToStored(const std::vector<TurningPoint>& points) {
     p.value.push_back(t.value);
   }
   return p;
-}
-
-void CommitTemporary(const std::string& tmp, const std::string& path) {
-  try {
-    CommitFile(tmp, path);
-  } catch (const std::runtime_error& e) {
-    throw NumericalError(e.what());
-  }
 }
 
 bool SameBits(double a, double b) {
@@ -452,40 +443,50 @@ StoredRun ReadStoredRun(const h5::Node& g, bool with_channels) {
 
 // ---- files ----------------------------------------------------------------------------------
 
-void WriteFileDurable(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw NumericalError("cannot write " + tmp);
-  }
-  CommitTemporary(tmp, path);
-}
-
 std::string ReadFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw NumericalError("cannot read " + path);
+  if (!in) throw IoError("cannot read " + path);
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
 }
 
-void WritePartFile(const std::string& path, const StoredRun& run) {
-  const std::string tmp = path + ".tmp";
-  {
+/// Writes `tmp` with `write`, closes it (which flushes and checks every buffered write),
+/// re-opens it for `check` (if given; it throws IoError when the file is not what was written)
+/// and commits it under `path`; on any failure removes `tmp` and throws IoError naming `path`.
+void WriteH5File(const std::string& tmp, const std::string& path,
+                 const std::function<void(const h5::Node&)>& write,
+                 const std::function<void(const h5::Node&)>& check = nullptr) {
+  try {
     std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
-    const h5::Node file = h5::CreateFile(tmp);
+    h5::Node file = h5::CreateFile(tmp);
+    write(file);
+    file.Close(tmp);
+    if (check) check(h5::OpenFile(tmp));  // what a reader will see, before it gets the name
+  } catch (const IoError& e) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw IoError(std::string(e.what()) + " (writing " + path + ")");
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+  CommitFile(tmp, path);
+}
+
+void WritePartFile(const std::string& path, const StoredRun& run) {
+  WriteH5File(path + ".tmp", path, [&](const h5::Node& file) {
     file.SetAttr("format", std::string(kFormat) + " part");
     WriteStoredRun(file, run);
-  }  // closed before it is committed
-  CommitTemporary(tmp, path);
+  });
 }
 
 StoredRun ReadPartFile(const std::string& path, bool with_channels) {
   std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   const h5::Node file = h5::OpenFile(path);
   if (!file.HasAttr("format") || file.GetString("format") != std::string(kFormat) + " part") {
-    throw NumericalError(path + " is not a flexrod sweep part file");
+    throw IoError(path + " is not a flexrod sweep part file");
   }
   return ReadStoredRun(file, with_channels);
 }
@@ -493,47 +494,42 @@ StoredRun ReadPartFile(const std::string& path, bool with_channels) {
 void WriteStore(const std::string& path, const StoreHeader& header,
                 const std::function<bool(StoredRun*)>& next) {
   const std::string tmp = path + ".tmp";
-  {
-    std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
-    const h5::Node file = h5::CreateFile(tmp);
-    file.SetAttr("format", kFormat);
-    file.SetAttr("name", header.name);
-    file.SetAttr("origin", header.origin);
-    file.SetAttr("base", header.base);
-    SetText(file, "matrix", header.matrix_source);
-    SetText(file, "axes", Join(header.axis_keys));
-    file.SetAttr("num_runs", static_cast<double>(header.num_runs), "1");
-    const h5::Node runs = file.CreateGroup("runs");
-    int failed = 0, written = 0;
-    StoredRun run;
-    while (next(&run)) {
-      WriteStoredRun(runs.CreateGroup(RunGroupName(run.id)), run);
-      failed += run.ok() ? 0 : 1;
-      ++written;
-    }
-    if (written != header.num_runs) {
-      throw NumericalError("store " + path + ": " + std::to_string(written) + " of " +
-                           std::to_string(header.num_runs) + " runs delivered");
-    }
-    file.SetAttr("num_failed", static_cast<double>(failed), "1");
-  }
-  CommitTemporary(tmp, path);
+  WriteH5File(
+      tmp, path,
+      [&](const h5::Node& file) {
+        file.SetAttr("format", kFormat);
+        file.SetAttr("name", header.name);
+        file.SetAttr("origin", header.origin);
+        file.SetAttr("base", header.base);
+        SetText(file, "matrix", header.matrix_source);
+        SetText(file, "axes", Join(header.axis_keys));
+        file.SetAttr("num_runs", static_cast<double>(header.num_runs), "1");
+        const h5::Node runs = file.CreateGroup("runs");
+        int failed = 0, written = 0;
+        StoredRun run;
+        while (next(&run)) {
+          WriteStoredRun(runs.CreateGroup(RunGroupName(run.id)), run);
+          failed += run.ok() ? 0 : 1;
+          ++written;
+        }
+        if (written != header.num_runs) {
+          throw std::logic_error("store " + path + ": " + std::to_string(written) + " of " +
+                                 std::to_string(header.num_runs) + " runs delivered");
+        }
+        file.SetAttr("num_failed", static_cast<double>(failed), "1");
+      },
+      [&](const h5::Node& file) {
+        const bool complete =
+            file.HasAttr("format") && file.GetString("format") == kFormat &&
+            file.HasAttr("num_failed") &&
+            file.OpenGroup("runs").Children().size() == static_cast<std::size_t>(header.num_runs);
+        if (!complete) throw IoError("the written store does not read back complete: " + path);
+      });
 }
 
-SweepStore ReadStore(const std::string& path, bool with_channels) {
-  if (!fs::is_regular_file(path)) throw InputError("store", path, "does not exist");
-  std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
-  h5::Node file;
-  try {
-    file = h5::OpenFile(path);
-  } catch (const NumericalError&) {
-    throw InputError("store", path, "is not an HDF5 file");
-  }
-  if (!file.HasAttr("format") || file.GetString("format") != kFormat) {
-    throw InputError(
-        "store", path,
-        "is not a flexrod sweep store (attribute format != '" + std::string(kFormat) + "')");
-  }
+namespace {
+
+SweepStore ReadStoreContent(const h5::Node& file, bool with_channels) {
   SweepStore store;
   store.header.name = file.GetString("name");
   store.header.origin = file.GetString("origin");
@@ -548,6 +544,29 @@ SweepStore ReadStore(const std::string& path, bool with_channels) {
   return store;
 }
 
+}  // namespace
+
+SweepStore ReadStore(const std::string& path, bool with_channels) {
+  if (!fs::is_regular_file(path)) throw InputError("store", path, "does not exist");
+  std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
+  h5::Node file;
+  try {
+    file = h5::OpenFile(path);
+  } catch (const IoError&) {
+    throw InputError("store", path, "is not an HDF5 file");
+  }
+  if (!file.HasAttr("format") || file.GetString("format") != kFormat) {
+    throw InputError(
+        "store", path,
+        "is not a flexrod sweep store (attribute format != '" + std::string(kFormat) + "')");
+  }
+  try {
+    return ReadStoreContent(file, with_channels);
+  } catch (const IoError& e) {
+    throw InputError("store", path, std::string("is damaged: ") + e.what());
+  }
+}
+
 StoreIndex::StoreIndex(const std::string& path) : path_(path) {
   if (!fs::is_regular_file(path)) return;
   try {
@@ -559,7 +578,7 @@ StoreIndex::StoreIndex(const std::string& path) : path_(path) {
       const h5::Node g = runs.OpenGroup(name);
       groups_[g.GetString("fingerprint")] = name;
     }
-  } catch (const NumericalError&) {
+  } catch (const IoError&) {
     groups_.clear();  // not a readable store: nothing to reuse
   }
 }
@@ -570,7 +589,7 @@ bool StoreIndex::IsStore(const std::string& path) {
     std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     const h5::Node file = h5::OpenFile(path);
     return file.HasAttr("format") && file.GetString("format") == kFormat;
-  } catch (const NumericalError&) {
+  } catch (const IoError&) {
     return false;
   }
 }

@@ -112,12 +112,11 @@ void WriteChannels(const h5::Node& group, double rate, double start, double deci
 /// `with_channels` = false skips the channel datasets (comparisons need only the points).
 StoredRun ReadStoredRun(const h5::Node& group, bool with_channels = true);
 
-/// Part files. WritePartFile writes `path` whole: temporary, fsync, rename, fsync of the
-/// directory. ReadPartFile throws NumericalError if the file is not a complete part.
+/// Part files. WritePartFile writes `path` whole: temporary, checked close, fsync, rename,
+/// fsync of the directory (IoError naming the file otherwise, the temporary removed).
+/// ReadPartFile throws IoError if the file is not a complete part.
 void WritePartFile(const std::string& path, const StoredRun& run);
 StoredRun ReadPartFile(const std::string& path, bool with_channels = true);
-/// Writes bytes to `path` the same way (used for parts that arrive over MPI).
-void WriteFileDurable(const std::string& path, const std::string& bytes);
 std::string ReadFileBytes(const std::string& path);
 
 /// The sweep store: writes FILE.h5 whole (temporary + fsync + rename) from runs delivered in
@@ -147,7 +146,7 @@ class StoreIndex {
   static bool IsStore(const std::string& path);
   bool Has(const std::string& fingerprint) const { return groups_.count(fingerprint) > 0; }
   std::size_t size() const { return groups_.size(); }
-  /// The complete run (with channels); NumericalError if it cannot be read.
+  /// The complete run (with channels); IoError if it cannot be read.
   StoredRun Read(const std::string& fingerprint) const;
 
  private:

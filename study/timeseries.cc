@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "study/timeseries.h"
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <system_error>
 #include <utility>
 
 #include "common/error.h"
+#include "common/files.h"
 
 namespace flexrod::study {
 namespace {
@@ -168,9 +171,7 @@ void ValidateRange(const std::string& key, SampleRange range, std::size_t num_sa
 void WriteCsv(const TimeSeries& series, const std::filesystem::path& path) {
   const std::filesystem::path tmp = path.string() + ".tmp";
   std::FILE* file = std::fopen(tmp.c_str(), "wb");
-  if (file == nullptr) {
-    throw InputError("csv", path.string(), "cannot open " + tmp.string() + " for writing");
-  }
+  if (file == nullptr) throw IoError(std::string(std::strerror(errno)) + ": " + tmp.string());
   std::string row(kTimeHeader);
   for (const Channel& ch : series.channels()) row += "," + ch.name + " [" + ch.unit + "]";
   row += '\n';
@@ -185,17 +186,15 @@ void WriteCsv(const TimeSeries& series, const std::filesystem::path& path) {
     row += '\n';
     ok = std::fwrite(row.data(), 1, row.size(), file) == row.size();
   }
-  ok = (std::fclose(file) == 0) && ok;
-  if (!ok) {
+  const int write_errno = errno;
+  const bool closed = std::fclose(file) == 0;  // flushes: a full disk may show only here
+  if (!ok || !closed) {
+    const int e = !ok ? write_errno : errno;
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
-    throw InputError("csv", path.string(), "write to " + tmp.string() + " failed");
+    throw IoError(std::string(std::strerror(e)) + ": " + path.string());
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    throw InputError("csv", path.string(), "cannot rename " + tmp.string() + ": " + ec.message());
-  }
+  CommitFile(tmp.string(), path.string());
 }
 
 TimeSeries ReadCsv(const std::filesystem::path& path) {

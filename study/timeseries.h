@@ -84,8 +84,8 @@ void ValidateRange(const std::string& key, SampleRange range, std::size_t num_sa
 
 /// Writes the record as CSV: a header "time [s],<name> [<unit>],..." then one row per sample,
 /// numbers in the shortest form that reads back bit-identically. Writes path + ".tmp" and
-/// renames it over `path`, so readers never see a half-written file. Throws InputError("csv",
-/// path, ...) if the file cannot be written.
+/// renames it over `path`, so readers never see a half-written file. Throws IoError naming
+/// the file and the system's reason if it cannot be written.
 void WriteCsv(const TimeSeries& series, const std::filesystem::path& path);
 
 /// Reads a CSV written by WriteCsv (or any CSV of that shape). The first column must be

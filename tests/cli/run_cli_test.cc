@@ -449,6 +449,29 @@ TEST(RunCli, RunFileHoldsTheChannelsTwinImpactsAndSummaryOfTheCsv) {
   fs::remove_all(out);
 }
 
+// A full disk at the channel file (fault injection: FLEXROD_FAIL_WRITE=3 fails the third file
+// committed, run.h5, after resolved.toml and summary.json, with ENOSPC): exit 3 naming the file
+// and the reason, the summary kept, no run.h5 and no temporary.
+TEST(RunCli, FullDiskAtTheChannelFileExitsWithThreeAndKeepsTheSummary) {
+  const fs::path out = TempDir("full_disk");
+  const fs::path err = TempDir("full_disk_stderr");
+  const std::string cmd = "FLEXROD_FAIL_WRITE=3 " + std::string(FLEXROD_BINARY) +
+                          " run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.02s "
+                          "--out " +
+                          out.string() + " >/dev/null 2>" + err.string();
+  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 3);
+  std::ifstream in(err);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("I/O error: No space left on device: " + (out / "run.h5").string()),
+            std::string::npos)
+      << text;
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+  EXPECT_FALSE(fs::exists(out / "run.h5"));
+  EXPECT_FALSE(fs::exists(out / "run.h5.tmp"));
+  fs::remove_all(out);
+  fs::remove(err);
+}
+
 // output.channels / output.rate: what a run's channel files hold.
 TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
   const fs::path out = TempDir("csv_select");

@@ -213,6 +213,42 @@ TEST_F(SweepCli, KilledSweepResumesWithoutRecomputingFinishedRuns) {
   ExpectSameStores(reference, store);
 }
 
+// A full disk (fault injection: FLEXROD_FAIL_WRITE=N fails the N-th file committed, with
+// ENOSPC) at a part and then at the store: exit 3 naming the file, no store under its name, every
+// finished part kept, and the rerun resumes from them to the same store as an undisturbed sweep.
+TEST_F(SweepCli, FullDiskAtAPartOrTheStoreLosesNoFinishedRunAndResumes) {
+  const std::string reference = ReferenceStore();
+  ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
+  const std::string store = (Dir() / "full.h5").string();
+  const fs::path parts = store + ".parts";
+  auto count_parts = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(parts)) n += e.path().extension() == ".h5";
+    return n;
+  };
+  const std::string sweep = "sweep " + Small() + " --jobs 1 --no-plot --out " + store;
+  // The second part fails: the first is kept.
+  Result r = Shell("FLEXROD_FAIL_WRITE=2 " + std::string(FLEXROD_BINARY) + " " + sweep);
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("No space left on device: " + parts.string()), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(store));
+  EXPECT_EQ(count_parts(), 1);
+  // Room for the three remaining parts but not for the store.
+  r = Shell("FLEXROD_FAIL_WRITE=4 " + std::string(FLEXROD_BINARY) + " " + sweep);
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("1 already finished; 3 to run"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("No space left on device: " + store), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(store));
+  EXPECT_FALSE(fs::exists(store + ".tmp"));
+  EXPECT_EQ(count_parts(), 4);
+  // Room again: nothing is recomputed.
+  r = Flexrod(sweep);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("4 already finished; 0 to run"), std::string::npos) << r.output;
+  ExpectSameStores(reference, store);
+}
+
 TEST_F(SweepCli, FailedRunIsRecordedAndTheSweepGoesOn) {
   const fs::path matrix = Dir() / "failing.toml";
   std::ofstream(matrix)
@@ -344,6 +380,24 @@ TEST_F(SweepCli, CompareWritesTheTablesOfEveryComparisonAndItsPlots) {
       Flexrod("compare " + (Dir() / "missing.h5").string() + " --out " + (Dir() / "c2").string())
           .exit_code,
       2);
+  // A damaged store (its second half cut off) and a foreign HDF5 file (a run's run.h5) are bad
+  // input naming the file, not numerical failures.
+  const fs::path cut = Dir() / "cut.h5";
+  fs::copy_file(reference, cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(cut) / 2);
+  Result damaged = Flexrod("compare " + cut.string() + " --out " + (Dir() / "c2").string());
+  EXPECT_EQ(damaged.exit_code, 2) << damaged.output;
+  EXPECT_NE(damaged.output.find("store = " + cut.string()), std::string::npos) << damaged.output;
+  const fs::path run = Dir() / "run";
+  ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.01s --out " +
+                    run.string())
+                .exit_code,
+            0);
+  const Result foreign =
+      Flexrod("compare " + (run / "run.h5").string() + " --out " + (Dir() / "c2").string());
+  EXPECT_EQ(foreign.exit_code, 2) << foreign.output;
+  EXPECT_NE(foreign.output.find("is not a flexrod sweep store"), std::string::npos)
+      << foreign.output;
   EXPECT_FALSE(fs::exists(Dir() / "c2"));
 }
 
