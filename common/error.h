@@ -5,6 +5,7 @@
 //   the value and the rule, e.g. "rod.height = -3 mm: must be > 0". The CLI maps it to exit 2.
 // * Numerical outcome (integrator failure, no convergence): NumericalError, carrying time,
 //   state and a hint; callers keep what was computed so far.
+// * The caller stopped the work: Interrupted.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -21,7 +22,10 @@ namespace flexrod {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& key, const std::string& value, const std::string& rule)
-      : std::runtime_error(key + " = " + value + ": " + rule), key_(key), value_(value), rule_(rule) {}
+      : std::runtime_error(key + " = " + value + ": " + rule),
+        key_(key),
+        value_(value),
+        rule_(rule) {}
   const std::string& key() const { return key_; }
   const std::string& value() const { return value_; }
   const std::string& rule() const { return rule_; }
@@ -34,6 +38,13 @@ class InputError : public std::runtime_error {
 class NumericalError : public std::runtime_error {
  public:
   explicit NumericalError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// The caller stopped the work (Ctrl-C in the Python module): not an error of the input nor
+/// of the numerics. Sweeps let it through instead of recording a failed run.
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(const std::string& what) : std::runtime_error(what) {}
 };
 
 /// Formats a double for error messages with enough digits to be unambiguous.
