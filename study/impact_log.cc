@@ -94,16 +94,36 @@ ImpactStatistics CalcImpactStatistics(const std::vector<Impact>& impacts) {
   return s;
 }
 
+const std::vector<ImpactColumn>& ImpactColumns() {
+  static const std::vector<ImpactColumn> kColumns = {
+      {"time", "s", [](const Impact& i) { return i.time; }},
+      {"crank_angle", "rad", [](const Impact& i) { return i.crank_angle; }},
+      {"approach_velocity", "m/s", [](const Impact& i) { return i.approach_velocity; }},
+      {"peak_force", "N", [](const Impact& i) { return i.peak_force; }},
+      {"time_of_peak_force", "s", [](const Impact& i) { return i.time_of_peak_force; }},
+      {"duration", "s", [](const Impact& i) { return i.duration; }},
+      {"peak_penetration", "m", [](const Impact& i) { return i.peak_penetration; }},
+      {"dissipated_energy", "J", [](const Impact& i) { return i.dissipated_energy; }},
+      {"complete", "1", [](const Impact& i) { return i.complete ? 1.0 : 0.0; }},
+  };
+  return kColumns;
+}
+
 void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path) {
-  std::string text =
-      "time [s],crank_angle [rad],approach_velocity [m/s],peak_force [N],time_of_peak_force "
-      "[s],duration [s],peak_penetration [m],dissipated_energy [J],complete [1]\n";
-  char row[512];
+  std::string text;
+  for (const ImpactColumn& c : ImpactColumns()) {
+    text += std::string(text.empty() ? "" : ",") + c.name + " [" + c.unit + "]";
+  }
+  text += '\n';
+  char number[32];
   for (const Impact& im : impacts) {
-    std::snprintf(row, sizeof(row), "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n", im.time,
-                  im.crank_angle, im.approach_velocity, im.peak_force, im.time_of_peak_force,
-                  im.duration, im.peak_penetration, im.dissipated_energy, im.complete ? 1 : 0);
-    text += row;
+    bool first = true;
+    for (const ImpactColumn& c : ImpactColumns()) {
+      std::snprintf(number, sizeof(number), "%s%.17g", first ? "" : ",", c.value(im));
+      text += number;
+      first = false;
+    }
+    text += '\n';
   }
   try {
     WriteFileAtomic(path, text);

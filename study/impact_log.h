@@ -29,31 +29,33 @@ namespace flexrod::study {
 
 /// The clearance joint at one solution point of a run.
 struct ContactPoint {
-  double time{0.0};              ///< [s]
-  double crank_angle{0.0};       ///< unwrapped [rad]
-  bool contact{false};           ///< the joint's contact flag: on from a located onset to the located separation
-  long onsets{0};                ///< onsets located so far in the run
+  double time{0.0};         ///< [s]
+  double crank_angle{0.0};  ///< unwrapped [rad]
+  bool contact{
+      false};      ///< the joint's contact flag: on from a located onset to the located separation
+  long onsets{0};  ///< onsets located so far in the run
   double onset_time{0.0};        ///< time of the last located onset [s]
   double penetration{0.0};       ///< δ [m]
   double penetration_rate{0.0};  ///< δ̇ [m/s]
   double normal_force{0.0};      ///< F_n [N]
   double dissipation{0.0};       ///< power the contact removes (normal damping + friction) [W]
 };
-ContactPoint MakeContactPoint(double time, double crank_angle, const multibody::ClearanceResponse& r);
+ContactPoint MakeContactPoint(double time, double crank_angle,
+                              const multibody::ClearanceResponse& r);
 
 /// One impact.
 struct Impact {
-  double time{0.0};               ///< located onset (or the start of the log, if already in contact) [s]
-  double crank_angle{0.0};        ///< at `time`, wrapped to [0, 2π) [rad]
+  double time{0.0};         ///< located onset (or the start of the log, if already in contact) [s]
+  double crank_angle{0.0};  ///< at `time`, wrapped to [0, 2π) [rad]
   double approach_velocity{0.0};  ///< δ̇ at `time`: the located onset, or the start of the log [m/s]
   double peak_force{0.0};         ///< max F_n over the impact's solution points [N]
-  double time_of_peak_force{0.0}; ///< [s]
-  double duration{0.0};           ///< located separation (or the end of the log) − time [s]
-  double peak_penetration{0.0};   ///< max δ over the impact's solution points [m]
+  double time_of_peak_force{0.0};  ///< [s]
+  double duration{0.0};            ///< located separation (or the end of the log) − time [s]
+  double peak_penetration{0.0};    ///< max δ over the impact's solution points [m]
   /// Energy the contact removed from the mechanism, ∫ dissipation dt over the impact (normal
   /// damping and friction), trapezoidal rule over its solution points [J].
   double dissipated_energy{0.0};
-  bool complete{true};            ///< false if the log starts or ends inside the impact
+  bool complete{true};  ///< false if the log starts or ends inside the impact
 };
 
 /// Builds the log from the solution points of a run, offered in time order (steps, located
@@ -76,19 +78,28 @@ class ImpactLogger {
 
 /// Summary numbers of a log (complete impacts only; zeros if there are none).
 struct ImpactStatistics {
-  std::size_t count{0};                ///< complete impacts
-  std::size_t incomplete{0};           ///< cut by the start or end of the record
-  double max_peak_force{0.0};          ///< [N]
-  double median_peak_force{0.0};       ///< [N]
-  double max_approach_velocity{0.0};   ///< [m/s]
-  double max_peak_penetration{0.0};    ///< [m]
-  double mean_duration{0.0};           ///< [s]
-  double total_dissipated_energy{0.0}; ///< [J]
+  std::size_t count{0};                 ///< complete impacts
+  std::size_t incomplete{0};            ///< cut by the start or end of the record
+  double max_peak_force{0.0};           ///< [N]
+  double median_peak_force{0.0};        ///< [N]
+  double max_approach_velocity{0.0};    ///< [m/s]
+  double max_peak_penetration{0.0};     ///< [m]
+  double mean_duration{0.0};            ///< [s]
+  double total_dissipated_energy{0.0};  ///< [J]
 };
 ImpactStatistics CalcImpactStatistics(const std::vector<Impact>& impacts);
 
-/// The log as CSV ("time [s],crank_angle [rad],..."), written whole (path + ".tmp", then
-/// rename). InputError("csv", path, ...) if it cannot be written.
+/// A column of the impact log: its name, unit, and the value of one impact (`complete` is 1 or
+/// 0). impacts.csv and the Python module's Run.impacts have these columns, in this order.
+struct ImpactColumn {
+  const char* name;
+  const char* unit;
+  double (*value)(const Impact&);
+};
+const std::vector<ImpactColumn>& ImpactColumns();
+
+/// The log as CSV ("time [s],crank_angle [rad],...", ImpactColumns), written whole (path + ".tmp",
+/// then rename). InputError("csv", path, ...) if it cannot be written.
 void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path);
 
 }  // namespace flexrod::study
