@@ -198,14 +198,14 @@ def test_gil_is_released_while_a_run_computes():
     counter.start()
     try:
         start = time.monotonic()
-        flexrod.run("flexible-rig", set={**LONG, "sim.capture": "1 s"})
+        flexrod.run("flexible-rig", set={**LONG, "sim.capture": "8 s"})
         end = time.monotonic()
     finally:
         done.set()
         counter.join()
     during = [t for t in ticks if start < t < end]
     # With the GIL held the counter could not tick until the run returned.
-    assert end - start > 0.2
+    assert end - start > 0.5
     assert len(during) > 50
     assert np.max(np.diff([start, *during, end])) < 0.5 * (end - start)
 
