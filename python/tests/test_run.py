@@ -4,6 +4,9 @@ documented types and units, the error classes, the GIL and Ctrl-C."""
 
 import _thread
 import json
+import os
+import signal
+import subprocess
 import threading
 import time
 
@@ -11,8 +14,8 @@ import numpy as np
 import pytest
 
 import flexrod
-from conftest import (SHORT, cli, read_cli_channels, read_csv_columns, read_summary, same_h5,
-                      set_args, without_timing)
+from conftest import (PYTHON, SHORT, cli, read_cli_channels, read_csv_columns, read_summary,
+                      same_h5, set_args, without_timing)
 
 
 @pytest.fixture(scope="module")
@@ -222,3 +225,25 @@ def test_ctrl_c_stops_a_run_with_keyboard_interrupt():
     # The module still works afterwards.
     assert flexrod.run("rigid-rig", set={"sim.capture": "0.01 s", "sim.settle": "0 s",
                                          "sim.sample_rate": "2 kHz"}).ok
+
+
+def test_sigint_stops_a_run_in_another_process():
+    """A real SIGINT (Ctrl-C in a terminal), not a simulated one."""
+    code = ("import sys, flexrod\n"
+            "print('computing', flush=True)\n"
+            "try:\n"
+            f"    flexrod.run('flexible-rig', set={LONG!r})\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True)\n"
+            "    sys.exit(0)\n"
+            "sys.exit(3)\n")
+    proc = subprocess.Popen([PYTHON, "-c", code], stdout=subprocess.PIPE, text=True,
+                            env=os.environ.copy())
+    assert proc.stdout.readline().strip() == "computing"
+    time.sleep(1.0)  # inside the run
+    start = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    out, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 0, out
+    assert "interrupted" in out
+    assert time.monotonic() - start < 30.0
