@@ -166,10 +166,10 @@ def test_out_that_cannot_be_a_directory_is_input_error(tmp_path):
     assert blocker.read_text() == "x"
 
 
-def test_numerical_failure_raises_with_time_state_hint_and_partial_run():
+def test_numerical_failure_raises_with_time_state_hint_and_partial_run(tmp_path):
     with pytest.raises(flexrod.NumericalError) as e:
         flexrod.run("rigid-rig", set={"sim.settle": "0 s", "sim.capture": "0.05 s",
-                                      "sim.max_steps": 10})
+                                      "sim.max_steps": 10}, out=tmp_path / "run")
     err = e.value
     assert err.outcome == "step-limit"
     assert isinstance(err.time, float) and 0 < err.time < 0.05
@@ -180,6 +180,8 @@ def test_numerical_failure_raises_with_time_state_hint_and_partial_run():
     assert err.run.channels["time"].dtype == np.float64
     assert len(err.run.channels["time"]) == err.run.summary["samples"]
     assert "step-limit at t = " in str(err)
+    # As the CLI, everything computed is written before the error.
+    assert read_summary(tmp_path / "run")["integrator"]["outcome"] == "step-limit"
 
 
 # ---- GIL and Ctrl-C ---------------------------------------------------------------------------
