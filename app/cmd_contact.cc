@@ -1,28 +1,23 @@
 // `flexrod contact`: one impact of a mass against a rigid wall through a chosen normal contact
-// law (contact/impact.h), with the law's parameters derived from pin and bush materials and
-// geometry unless overridden. Prints and optionally writes (JSON) the achieved restitution, peak
-// force, peak penetration and contact duration with the resolved parameters; --plot draws the
-// force–penetration loop with app/plot_contact.py (python3 + matplotlib, Agg backend).
-// SPDX-License-Identifier: GPL-3.0-or-later
+// law (study/contact_impact.h, contact/impact.h), with the law's parameters derived from pin and
+// bush materials and geometry unless overridden. Prints and optionally writes (JSON) the achieved
+// restitution, peak force, peak penetration and contact duration with the resolved parameters;
+// --plot draws the force–penetration loop with app/plot_contact.py (python3 + matplotlib, Agg
+// backend). SPDX-License-Identifier: GPL-3.0-or-later
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
 #include "common/error.h"
 #include "common/files.h"
-#include "common/units.h"
 #include "contact/impact.h"
 #include "study/contact_impact.h"
 
