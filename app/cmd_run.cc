@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <numbers>
@@ -37,28 +36,8 @@ std::string Ratio(const nlohmann::json& object, const char* key) {
   return buf;
 }
 
-Config LoadInput(const std::string& input, const std::vector<std::string>& sets) {
-  Config cfg;
-  const Preset* p =
-      input.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(input);  // sweep-* are matrices
-  if (p) {
-    cfg.LoadToml(p->toml, "preset " + input);
-  } else if (std::filesystem::exists(input)) {
-    cfg.LoadTomlFile(input);
-  } else {
-    std::string names;
-    for (const Preset& q : Presets()) {
-      if (q.name.rfind("sweep-", 0) != 0) names += (names.empty() ? "" : ", ") + q.name;
-    }
-    throw InputError("input", input,
-                     "is neither a preset (" + names + ") nor an existing TOML file");
-  }
-  for (const std::string& s : sets) cfg.SetAssignment(s);
-  return cfg;
-}
-
 int Run(const RunOptions& opt) {
-  const Config cfg = LoadInput(opt.input, opt.sets);
+  const Config cfg = LoadRunInput(opt.input, opt.sets);
   CheckCanCreateDirectory("--out", opt.out_dir);  // before the run, not after it
   const std::optional<Config> check_cfg =
       opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;

@@ -17,6 +17,7 @@
 #include "common/files.h"
 #include "contact/normal_law.h"
 #include "study/presets.h"
+#include "study/reduction_study.h"
 #include "study/run.h"
 #include "study/run_files.h"
 #include "study/slider_crank.h"
@@ -122,80 +123,7 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
           Num(wall)};
 }
 
-// ---- the modal reduction study --------------------------------------------------------------
-// One case, the rod as the exact body (the reference), the full FE model, Craig–Bampton with
-// k = 0, 1, 2, 4, 8, 16 fixed-interface modes and the other bases at 8 modes; per variant the
-// headline figures and their difference to the exact rod.
-
-struct ReductionVariant {
-  std::string name;
-  std::vector<std::string> sets;
-  int modes{-1};  ///< Craig–Bampton fixed-interface modes, −1 for the others
-};
-
-std::vector<ReductionVariant> ReductionVariants() {
-  std::vector<ReductionVariant> v = {{"exact", {"rod.type=exact"}, -1},
-                                     {"full", {"rod.type=flexible", "reduction.method=full"}, -1}};
-  for (int k : {0, 1, 2, 4, 8, 16}) {
-    v.push_back({"cb-" + std::to_string(k),
-                 {"rod.type=flexible", "reduction.method=craig-bampton",
-                  "reduction.modes=" + std::to_string(k)},
-                 k});
-  }
-  v.push_back({"orthonormal-cb-8",
-               {"rod.type=flexible", "reduction.method=orthonormal-cb", "reduction.modes=8"},
-               -1});
-  v.push_back({"free-free-8",
-               {"rod.type=flexible", "reduction.method=free-free", "reduction.modes=8"},
-               -1});
-  return v;
-}
-
-/// The figures a variant is judged by (NaN where the case has none, e.g. no clearance joint).
-struct ReductionFigures {
-  static constexpr int kCount = 7;
-  static const char* Name(int i) {
-    static const char* names[kCount] = {"peak |slider acc.| [m/s^2]",
-                                        "p95 per-rev. peak |slider acc.| [m/s^2]",
-                                        "amplification + (p95)",
-                                        "amplification - (p95)",
-                                        "peak bearing force [N]",
-                                        "peak gauge strain [1]",
-                                        "first impact [s]"};
-    return names[i];
-  }
-  double value[kCount];
-};
-
-ReductionFigures FiguresOf(const RunResult& r) {
-  const nlohmann::json& s = r.summary;
-  auto at = [&](std::initializer_list<const char*> path) -> double {
-    const nlohmann::json* j = &s;
-    for (const char* k : path) {
-      if (!j->contains(k) || (*j)[k].is_null()) return NAN;
-      j = &(*j)[k];
-    }
-    return j->get<double>();
-  };
-  ReductionFigures f;
-  f.value[0] = std::max(at({"slider_acceleration", "peak_positive"}),
-                        at({"slider_acceleration", "peak_negative"}));
-  f.value[1] = at({"slider_acceleration", "per_revolution_abs", "p95"});
-  f.value[2] = at({"load_amplification", "slider_acceleration_positive_p95"});
-  f.value[3] = at({"load_amplification", "slider_acceleration_negative_p95"});
-  f.value[4] = at({"channels", "bearing_force", "peak_abs"});
-  double strain = NAN;
-  if (s.contains("channels")) {
-    for (const auto& [name, c] : s["channels"].items()) {
-      if (name.rfind("strain_", 0) == 0)
-        strain = std::isnan(strain) ? c["peak_abs"].get<double>()
-                                    : std::max(strain, c["peak_abs"].get<double>());
-    }
-  }
-  f.value[5] = strain;
-  f.value[6] = r.impacts.empty() ? NAN : r.impacts.front().time;
-  return f;
-}
+// ---- the modal reduction study (variants and figures: study/reduction_study.h) ------------
 
 int RunReductionStudy(const StudyOptions& opt) {
   Require(opt.within > 0.0, "--within", opt.within, "must be > 0 [%]");
@@ -225,7 +153,7 @@ int RunReductionStudy(const StudyOptions& opt) {
     const RunResult r = RunSimulation(configs[i], nullptr, false, RunOutputOptions{});
     walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     outcomes.push_back(multibody::ToString(r.status.outcome));
-    figures.push_back(FiguresOf(r));
+    figures.push_back(FiguresOf(r.summary, r.impacts.empty() ? NAN : r.impacts.front().time));
     // Each variant's summary and input (its channels would be 0.5 GB a variant on the rig).
     const std::string dir = opt.out_dir + "/" + variants[i].name;
     EnsureDirectory("--out", dir);

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <thread>
 
@@ -19,8 +18,6 @@
 
 namespace flexrod::app {
 namespace {
-
-namespace fs = std::filesystem;
 
 std::string Duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0.0) return "--";
@@ -72,8 +69,7 @@ study::SweepMatrix LoadRequestMatrix(const SweepRequest& request) {
 
 std::string StorePath(const SweepRequest& request, const study::SweepMatrix& matrix) {
   if (!request.out.empty()) {
-    if (fs::path(request.out).extension() != ".h5")
-      throw InputError("--out", request.out, "must end in .h5");
+    study::CheckStorePath("--out", request.out);
     return request.out;
   }
   return "out/" + matrix.name + ".h5";

@@ -8,6 +8,7 @@
 // * Storage: IoError, a file that cannot be written (or a file flexrod wrote that cannot be
 //   read back), naming the file and the system's reason ("No space left on device: out/run/
 //   run.h5"); nothing is left under the file's final name. Exit 3.
+// * The caller stopped the work: Interrupted (the Python module's Ctrl-C).
 // * Programmer bug: FLEXROD_ASSERT (debug assertion); any other exception (a logic error,
 //   out of memory) is internal. Exit 4.
 // SPDX-License-Identifier: GPL-3.0-or-later
@@ -48,6 +49,13 @@ class NumericalError : public std::runtime_error {
 class IoError : public std::runtime_error {
  public:
   explicit IoError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// The caller stopped the work (Ctrl-C in the Python module): not an error of the input nor
+/// of the numerics. Sweeps let it through instead of recording a failed run.
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(const std::string& what) : std::runtime_error(what) {}
 };
 
 /// Formats a double for error messages with enough digits to be unambiguous.

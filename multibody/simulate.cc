@@ -516,6 +516,8 @@ const char* ToString(SimulationOutcome outcome) {
       return "step-limit";
     case SimulationOutcome::kInitialConditionFailure:
       return "initial-condition-failure";
+    case SimulationOutcome::kInterrupted:
+      return "interrupted";
   }
   return "?";
 }
@@ -775,6 +777,11 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
                      "increase the step budget (sim.max_steps), loosen tolerances or check for "
                      "chattering events",
                      t_now);
+        break;
+      }
+      if (options.stop != nullptr && options.stop->load(std::memory_order_relaxed)) {
+        fill_failure(SimulationOutcome::kInterrupted, "interrupted by the caller",
+                     "run it again; nothing is wrong with the input", t_now);
         break;
       }
     }

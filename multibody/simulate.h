@@ -8,6 +8,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -31,15 +32,15 @@ enum class ElasticInitialState {
 };
 
 struct InitialConditionSpec {
-  Vec coordinates;    ///< guess of p (np); empty = zeros. Elastic entries are kept (or relaxed).
-  Vec velocities;     ///< guess of v (np); empty = zeros.
+  Vec coordinates;  ///< guess of p (np); empty = zeros. Elastic entries are kept (or relaxed).
+  Vec velocities;   ///< guess of v (np); empty = zeros.
   /// Coordinates held at their guess by the position Newton (elastic coordinates always are).
   std::vector<int> fixed_coordinates;
   /// Velocities held at their guess by the velocity projection (elastic velocities always are).
   std::vector<int> fixed_velocities;
   ElasticInitialState elastic{ElasticInitialState::kUndeformed};
-  double position_tolerance{1e-12};   ///< max |g| accepted [m or rad], > 0
-  int max_newton_iterations{50};      ///< >= 1
+  double position_tolerance{1e-12};     ///< max |g| accepted [m or rad], > 0
+  int max_newton_iterations{50};        ///< >= 1
   int max_equilibrium_iterations{100};  ///< static-equilibrium fixed point, >= 1
   void Validate(const Mechanism& model) const;
 };
@@ -56,18 +57,17 @@ ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, do
                                        const InitialConditionSpec& spec);
 
 /// Recomputes v̇, λ (μ = 0), ṗ = v and ż at fixed (p, v, z): used after events and restarts.
-void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double t, Vec* y,
-                                  Vec* yp);
+void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double t, Vec* y, Vec* yp);
 
 /// Convenience for building guesses: writes a body's frame pose / velocity into p / v.
 void SetBodyPose(const Mechanism& model, BodyId body, const Vec2& origin, double angle, Vec* p);
 void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,
                      double angular_velocity, Vec* v);
 
-// ---- the DAE adapter ------------------------------------------------------------------------------
+// ---- the DAE adapter ----------------------------------------------------------------------------
 struct IndexEventSpec {
-  BodyId body;          ///< whose frame angle θ is watched
-  double angle{0.0};    ///< θ_index [rad]; events at θ = θ_index + 2πk
+  BodyId body;        ///< whose frame angle θ is watched
+  double angle{0.0};  ///< θ_index [rad]; events at θ = θ_index + 2πk
 };
 
 /// The mechanism DAE seen by IdaIntegrator, on the unknowns `prescribed` keeps (prescribed.h):
@@ -105,7 +105,7 @@ class MechanismDae final : public DaeSystem {
   Mat jac_full_;
 };
 
-// ---- run loop -------------------------------------------------------------------------------------
+// ---- run loop -----------------------------------------------------------------------------------
 /// Velocity tolerance scale [1/s] for models where joints or force elements act on elastic
 /// coordinates. A position error δp implies a velocity error ω·δp in a mode of angular
 /// frequency ω. When stiff elastic coordinates enter joint constraints, tolerance-level
@@ -125,33 +125,36 @@ inline constexpr double kElasticJointVelocityTolScale = 1e4;
 double AutoVelocityTolScale(const Mechanism& model);
 
 struct SimulationOptions {
-  double t_start{0.0};          ///< [s]
-  double t_end{1.0};            ///< [s], > t_start
-  double sample_rate{1e5};      ///< output rate [Hz], > 0
-  double sample_start{0.0};     ///< first sample time [s] (samples on t = sample_start + k/rate)
+  double t_start{0.0};       ///< [s]
+  double t_end{1.0};         ///< [s], > t_start
+  double sample_rate{1e5};   ///< output rate [Hz], > 0
+  double sample_start{0.0};  ///< first sample time [s] (samples on t = sample_start + k/rate)
   /// If true, the sample grid starts at the first index crossing at or after sample_start
   /// (rig-style triggered capture; needs index_event).
   bool start_sampling_at_index{false};
   std::optional<IndexEventSpec> index_event;
   IntegratorOptions integrator;
-  long max_steps{0};            ///< integrator steps allowed for the run; 0 = unlimited
+  long max_steps{0};  ///< integrator steps allowed for the run; 0 = unlimited
   /// Absolute tolerance of the velocities v = abs_tol · velocity_tol_scale [1/s], >= 0;
   /// 0 (default) = AutoVelocityTolScale(model). See kElasticJointVelocityTolScale.
   double velocity_tol_scale{0.0};
-  double energy_tol_scale{1.0};    ///< abs tolerance of the energy quadratures = abs_tol · this, > 0
+  double energy_tol_scale{1.0};  ///< abs tolerance of the energy quadratures = abs_tol · this, > 0
   /// Integrate without the coordinates that ground-side constraints prescribe (prescribed.h);
   /// false integrates the full DAE (the same solution; for checks).
   bool eliminate_prescribed{true};
   /// Time each force element's evaluations in residuals and its Jacobian block
   /// (SimulationStatus::element_seconds); off by default (two clock reads per element per call).
   bool time_elements{false};
+  /// Polled after every integrator step: once it reads true, the run stops with outcome
+  /// kInterrupted, keeping what it produced (a caller's Ctrl-C). nullptr: never stops.
+  const std::atomic<bool>* stop{nullptr};
   void Validate(const Mechanism& model) const;
 };
 
 struct IndexCrossing {
-  double t{0.0};          ///< [s]
-  long revolution{0};     ///< k in θ = θ_index + 2πk
-  double speed{0.0};      ///< θ̇ at the crossing [rad/s]
+  double t{0.0};       ///< [s]
+  long revolution{0};  ///< k in θ = θ_index + 2πk
+  double speed{0.0};   ///< θ̇ at the crossing [rad/s]
 };
 
 /// One output sample: the state, its derivative, and lazily computed queries.
@@ -163,9 +166,9 @@ class SampleView {
   RunData& data() const { return *data_; }
   const double* y() const { return y_; }
   const double* yp() const { return yp_; }
-  double coordinate(int i) const { return y_[i]; }                                  ///< p_i
-  double velocity(int i) const { return y_[model_.num_coordinates() + i]; }         ///< v_i
-  double acceleration(int i) const { return yp_[model_.num_coordinates() + i]; }    ///< v̇_i
+  double coordinate(int i) const { return y_[i]; }                                ///< p_i
+  double velocity(int i) const { return y_[model_.num_coordinates() + i]; }       ///< v_i
+  double acceleration(int i) const { return yp_[model_.num_coordinates() + i]; }  ///< v̇_i
   const MarkerKinematics& Marker(MarkerId m) const;
   Vec2 MarkerAcceleration(MarkerId m) const;
   JointReaction Reaction(JointId j) const;
@@ -202,32 +205,33 @@ enum class SimulationOutcome {
   kIntegratorFailure,        ///< IDA gave up (status has time, state, hint)
   kStepLimit,                ///< options.max_steps reached
   kInitialConditionFailure,  ///< no consistent initial state
+  kInterrupted,              ///< SimulationOptions::stop was set (not a numerical failure)
 };
 const char* ToString(SimulationOutcome outcome);
 
 struct SimulationStatus {
   SimulationOutcome outcome{SimulationOutcome::kCompleted};
-  double t_reached{0.0};          ///< last time the integrator reached [s]
-  std::string message;            ///< what went wrong (IDA flag and message)
-  std::string hint;               ///< what to try
-  double norm_coordinates{0.0};   ///< |p|₂ of the last state IDA returned
-  double norm_velocities{0.0};    ///< |v|₂
-  double norm_multipliers{0.0};   ///< |λ|₂
-  int worst_residual_index{-1};   ///< unknown with the largest |F_i| at the last returned state
+  double t_reached{0.0};         ///< last time the integrator reached [s]
+  std::string message;           ///< what went wrong (IDA flag and message)
+  std::string hint;              ///< what to try
+  double norm_coordinates{0.0};  ///< |p|₂ of the last state IDA returned
+  double norm_velocities{0.0};   ///< |v|₂
+  double norm_multipliers{0.0};  ///< |λ|₂
+  int worst_residual_index{-1};  ///< unknown with the largest |F_i| at the last returned state
   std::string worst_residual_variable;
   double worst_residual{0.0};
-  int worst_error_index{-1};      ///< unknown with the largest weighted local error estimate
+  int worst_error_index{-1};  ///< unknown with the largest weighted local error estimate
   std::string worst_error_variable;
   double worst_weighted_error{0.0};
   long num_samples{0};
-  long root_stall_restarts{0};    ///< re-initialisations past a root function stuck at zero
-  int unknowns{0};                ///< unknowns IDA integrated (model.size() less the prescribed)
+  long root_stall_restarts{0};  ///< re-initialisations past a root function stuck at zero
+  int unknowns{0};              ///< unknowns IDA integrated (model.size() less the prescribed)
   std::vector<IndexCrossing> index_crossings;
   IntegratorStats stats;
   LinearSolverKind linear_solver{LinearSolverKind::kDense};
-  double velocity_tol_scale{1.0}; ///< the velocity tolerance scale used [1/s]
-  double wall_seconds{0.0};       ///< whole run [s]
-  double output_seconds{0.0};     ///< dense output + observer callbacks [s]
+  double velocity_tol_scale{1.0};  ///< the velocity tolerance scale used [1/s]
+  double wall_seconds{0.0};        ///< whole run [s]
+  double output_seconds{0.0};      ///< dense output + observer callbacks [s]
   /// SimulationOptions::time_elements: per force element (model order), the wall time of its
   /// evaluations in residuals and of its Jacobian block [s]; empty otherwise.
   std::vector<double> element_seconds;

@@ -1,10 +1,14 @@
 // study/presets.h — the presets of examples/*.toml, built into the binary at configure time
-// (cmake/EmbedPresets.cmake). A preset is a TOML input like any user file.
+// (cmake/EmbedPresets.cmake). A preset is a TOML input like any user file; LoadRunInput reads
+// a run's input (a preset or a file, then --set assignments) as `flexrod run` and the Python
+// module take it.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include "study/config.h"
 
 namespace flexrod {
 
@@ -16,5 +20,9 @@ struct Preset {
 const std::vector<Preset>& Presets();
 /// The preset of that name, or nullptr.
 const Preset* FindPreset(const std::string& name);
+
+/// The input of one run: the preset `input` (not a sweep-* matrix) or the TOML file of that
+/// path, then the "key=value" assignments in order. InputError("input", ...) if it is neither.
+Config LoadRunInput(const std::string& input, const std::vector<std::string>& sets);
 
 }  // namespace flexrod

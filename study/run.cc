@@ -513,7 +513,7 @@ namespace {
 
 RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
                  MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr,
-                 bool profile = false) {
+                 bool profile = false, const std::atomic<bool>* stop = nullptr) {
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
@@ -571,6 +571,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   opt.max_steps = max_steps > 0 ? max_steps : std::lround(1e6 * (opt.t_end - opt.t_start)) + 100000;
   opt.time_elements = profile;
   opt.integrator.time_calls = profile;
+  opt.stop = stop;
   opt.Validate(m);
 
   Recorder rec;
@@ -765,8 +766,8 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
   }
   MechanismModel mm;
-  RunResult out =
-      RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr, outputs.profile);
+  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr,
+                         outputs.profile, outputs.stop);
   if (out.vtk && !outputs.vtk_dir.empty())
     out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
@@ -775,7 +776,8 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   bool computed = false;
   auto compute_twin = [&] {
     computed = true;
-    return std::make_shared<const RunResult>(RunOne(cfg, mm.rod, true, nullptr));
+    return std::make_shared<const RunResult>(
+        RunOne(cfg, mm.rod, true, nullptr, nullptr, false, outputs.stop));
   };
   const std::shared_ptr<const RunResult> twin =
       outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -89,6 +90,9 @@ struct RunOutputOptions {
   /// Share the ideal-joint twin with the other runs using this cache (nullptr: compute it).
   /// summary["ideal"]["reused"] says whether the twin came from an earlier run.
   TwinCache* twins{nullptr};
+  /// Polled by the integrator (multibody::SimulationOptions::stop), also in the ideal-joint
+  /// twin: once true, the run stops with outcome kInterrupted. nullptr: never stops.
+  const std::atomic<bool>* stop{nullptr};
 };
 
 /// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces an ideal

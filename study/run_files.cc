@@ -86,12 +86,17 @@ void WriteRunH5(const std::string& dir, const Config& cfg, const RunResult& run,
       WriteChannelGroup(file.CreateGroup("ideal").CreateGroup("channels"), *run.ideal, sel);
     }
     const h5::Node impacts = file.CreateGroup("impacts");
+    std::string names, units;
     for (const study::Channel& c : study::ImpactColumns(run.impacts)) {
       impacts.WriteVector(
           c.name,
           Eigen::Map<const Vec>(c.values.data(), static_cast<Eigen::Index>(c.values.size())),
           c.unit);
+      names += (names.empty() ? "" : ",") + c.name;
+      units += (units.empty() ? "" : ",") + c.unit;
     }
+    impacts.SetAttr("names", names);  // the column order, as in the other groups
+    impacts.SetAttr("units", units);
     file.Close(tmp);
   } catch (const std::exception& e) {
     std::error_code ec;

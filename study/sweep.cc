@@ -86,7 +86,8 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
   }
 }
 
-StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins) {
+StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins,
+                          const std::atomic<bool>* stop) {
   const auto t0 = std::chrono::steady_clock::now();
   const Config cfg = matrix.ConfigFor(id);
   StoredRun out;
@@ -94,8 +95,12 @@ StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, Twi
     const std::shared_ptr<const fem::ReducedRod> rod = rods->Get(cfg);
     RunOutputOptions outputs;
     outputs.twins = twins;
+    outputs.stop = stop;
     const RunResult result = RunSimulation(cfg, rod, false, outputs);
+    if (stop != nullptr && stop->load()) throw Interrupted("sweep interrupted");
     out = AnalyseRun(cfg, result, matrix.store);
+  } catch (const Interrupted&) {
+    throw;
   } catch (const InputError& e) {
     out = FailedRun(cfg, matrix.store, "input-error", e.what());
   } catch (const NumericalError& e) {
@@ -282,6 +287,10 @@ std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& id
 
 // ---- local sweep --------------------------------------------------------------------------
 
+void CheckStorePath(const std::string& key, const std::string& path) {
+  if (fs::path(path).extension() != ".h5") throw InputError(key, path, "must end in .h5");
+}
+
 SweepSession::Outcome RunSweep(const SweepMatrix& matrix, const std::string& store_path,
                                const SweepOptions& options) {
   RodCache rods;
@@ -302,7 +311,7 @@ SweepSession::Outcome RunSweep(const SweepMatrix& matrix, const std::string& sto
         return cursor < pending.size() ? std::optional<int>(pending[cursor++]) : std::nullopt;
       },
       [&](int id) {
-        const StoredRun run = ComputeSweepRun(matrix, id, &rods, &twins);
+        const StoredRun run = ComputeSweepRun(matrix, id, &rods, &twins, options.stop);
         session.Save(run);
         std::lock_guard<std::mutex> lock(event_mutex);
         state.kind = SweepEvent::Kind::kRunDone;

@@ -10,6 +10,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -48,7 +49,10 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods);
 /// other runs through the caches (`twins` may be null: every clearance run computes its twin).
 /// An integrator failure, a NumericalError or an input rejected inside the solver become a
 /// failed run with its message; any other exception (a logic error, out of memory) propagates.
-StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins);
+/// Once `stop` (polled by the integrator) reads true, it throws Interrupted and the run has no
+/// result.
+StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, TwinCache* twins,
+                          const std::atomic<bool>* stop = nullptr);
 
 /// `ids` in the order to compute them on `jobs` threads so that a TwinCache of `jobs` twins
 /// computes each ideal-joint twin once and no thread waits for another's twin: runs that share
@@ -130,7 +134,14 @@ struct SweepOptions {
   bool keep_parts{false};  ///< keep FILE.h5.parts/ after assembly
   /// Called for every event, serialised (never concurrently).
   std::function<void(const SweepEvent&)> on_event;
+  /// Polled by every run's integrator: once true, the runs in progress stop, RunSweep throws
+  /// Interrupted, and the finished runs stay as parts (the next session resumes). nullptr:
+  /// never stops.
+  const std::atomic<bool>* stop{nullptr};
 };
+
+/// InputError(key, path, ...) unless the store path ends in .h5.
+void CheckStorePath(const std::string& key, const std::string& path);
 
 /// A whole sweep on this machine: validate, open the session, run the pending runs on
 /// options.jobs threads, assemble the store.

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
 #include <string>
 #include <utility>
@@ -129,6 +130,30 @@ TEST(IntegratorFailure, AbsurdToleranceIsReportedWithAHint) {
   EXPECT_GE(c.times.size(), 1u);  // the t = 0 sample at least
   EXPECT_GT(st.norm_coordinates, 0.0);
   EXPECT_FALSE(st.worst_residual_variable.empty()) << st.Summary();
+}
+
+TEST(IntegratorFailure, StopFlagEndsTheRunAtTheNextStepAndKeepsSamples) {
+  SliderCrankParams P;
+  auto sc = BuildRigidSliderCrank(P);
+  RunData data(sc.model);
+  SimulationOptions opt;
+  opt.t_end = 1.0;
+  opt.sample_rate = 1e4;
+  std::atomic<bool> stop{false};
+  opt.stop = &stop;
+  Collected c;
+  SimulationCallbacks callbacks = Collect(&c);
+  callbacks.on_sample = [&, record = callbacks.on_sample](const SampleView& s) {
+    record(s);
+    if (s.t() >= 0.25) stop = true;  // the caller asks to stop (Ctrl-C) a quarter in
+  };
+  const SimulationStatus st = Simulate(sc.model, &data, SliderCrankGuess(sc, P), opt, callbacks);
+  EXPECT_EQ(st.outcome, SimulationOutcome::kInterrupted);
+  EXPECT_STREQ(ToString(st.outcome), "interrupted");
+  EXPECT_GE(st.t_reached, 0.25);
+  EXPECT_LT(st.t_reached, 0.3);  // one step after the flag, not the whole second
+  EXPECT_EQ(static_cast<long>(c.times.size()),
+            static_cast<long>(std::floor(st.t_reached * 1e4 + 1e-9)) + 1);
 }
 
 TEST(IntegratorFailure, StepBudgetStopsTheRunAndKeepsSamples) {
