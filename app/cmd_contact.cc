@@ -84,7 +84,9 @@ int RunContact(const ContactOptions& opt) {
   if (!opt.plot_file.empty()) {  // checked before any work
     const std::string ext = std::filesystem::path(opt.plot_file).extension().string();
     if (ext != ".png") throw InputError("plot", opt.plot_file, "the plot file must end in .png");
+    CheckCanWriteFile("--plot", opt.plot_file);
   }
+  if (!opt.json_file.empty()) CheckCanWriteFile("--json", opt.json_file);
   const ContactImpact c = SimulateContactImpact(opt.request);
   const contact::ImpactResult& r = c.result;
   const double mass = c.mass, velocity = c.velocity;

@@ -22,6 +22,7 @@ int RunModes(const ModesOptions& opt) {
   Config cfg;
   if (!opt.config_file.empty()) cfg.LoadTomlFile(opt.config_file);
   for (const auto& [key, text] : opt.flags) cfg.Set(key, text);
+  if (!opt.json_file.empty()) CheckCanWriteFile("--json", opt.json_file);  // before the work
   const ModalAnalysis a = AnalyseModes(cfg);
   const fem::RodSpec& rod = a.rod;
   if (!a.warning.empty()) std::fprintf(stderr, "flexrod: warning: %s\n", a.warning.c_str());

@@ -98,4 +98,17 @@ void EnsureDirectory(const std::string& key, const std::string& path) {
   }
 }
 
+void CheckCanWriteFile(const std::string& key, const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(key, path, "is a directory, not a file");
+  const fs::path parent = fs::absolute(path, ec).parent_path();
+  if (!fs::is_directory(parent, ec)) {
+    throw InputError(key, path, "its directory " + parent.string() + " does not exist");
+  }
+  if (::access(parent.c_str(), W_OK) != 0) {
+    throw InputError(key, path, "its directory " + parent.string() + " is not writable");
+  }
+}
+
 }  // namespace flexrod

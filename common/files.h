@@ -23,4 +23,8 @@ void CommitFile(const std::string& tmp, const std::string& path);
 /// Creates a directory and its parents if missing. Throws InputError(key, path, ...) on failure.
 void EnsureDirectory(const std::string& key, const std::string& path);
 
+/// InputError naming `key` unless `path` can be written as a file: not a directory, in an
+/// existing writable directory. Creates nothing (checked before the work, written after it).
+void CheckCanWriteFile(const std::string& key, const std::string& path);
+
 }  // namespace flexrod
