@@ -27,7 +27,8 @@ namespace flexrod {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& key, const std::string& value, const std::string& rule)
-      : std::runtime_error(key + " = " + value + ": " + rule),
+      : std::runtime_error(key + " = " + (value.empty() ? std::string("\"\"") : value) + ": " +
+                           rule),  // an empty value reads "": seen as one
         key_(key),
         value_(value),
         rule_(rule) {}

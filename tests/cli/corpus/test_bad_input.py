@@ -432,9 +432,7 @@ RUN = [
     # flags
     R("set-without-equals", ["rod.height"], ["--set", "rod.height", "key=value"]),
     R("set-empty-key", ["=3mm"], ["--set", "=3mm", "key=value"]),
-    R("set-empty", [""], ['--set = ""'],
-      xfail="exit 2, but the message is `--set = : must have the form key=value`: the empty "
-            "value is not quoted"),
+    R("set-empty", [""], ['--set = ""']),
     R("set-blank-key", [" =3"], ["--set", '" "'],
       xfail="exit 2, but the message is `flexrod: error:   = (any): unknown key`: neither "
             "--set nor the blank key (quoted) is shown"),
@@ -453,9 +451,7 @@ RUN = [
       xfail="accepted, exit 0: `--no-plot` is taken as the output directory, which is "
             "created in the working directory, and the plots are drawn"),
     R("out-empty", [], ['--out = ""'], input="rigid-rig", extra=["--no-plot", "--out", ""],
-      out=False,
-      xfail="exit 2, but the message is `--out = : is not a usable path: Invalid argument`: "
-            "the empty value is not quoted"),
+      out=False),
     R("out-is-file", [], ["--out", "{tmp}/plain", "not a directory"], input="rigid-rig",
       extra=["--no-plot", "--out", "{tmp}/plain"], out=False),
     R("out-under-file", [], ["--out", "{tmp}/plain/sub"], input="rigid-rig",
@@ -469,12 +465,8 @@ RUN = [
     R("out-in-sys", [], ["--out", "/sys/flexrod-corpus/x"], input="rigid-rig",
       extra=["--no-plot", "--out", "/sys/flexrod-corpus/x"], out=False),
     # empty values are to be quoted
-    R("quoted-empty-material", ["rod.material="], ['rod.material = ""'],
-      xfail="exit 2, but the message is `rod.material = : must be one of ...`: the empty "
-            "value is not quoted"),
-    R("quoted-empty-profile", ["drive.type=profile", "drive.profile="], ['drive.profile = ""'],
-      xfail="exit 2, but the message is `drive.profile = : needs at least two time:speed "
-            "pairs`: the empty value is not quoted"),
+    R("quoted-empty-material", ["rod.material="], ['rod.material = ""']),
+    R("quoted-empty-profile", ["drive.type=profile", "drive.profile="], ['drive.profile = ""']),
 ]
 
 # --------------------------------------------------------------------------------------------
@@ -514,9 +506,7 @@ MODES = [
     M("height-missing-value", ["--height"], ["--height"], json=False),
     M("height-twice", ["--height", "1mm", "--height", "2mm"], ["--height"]),
     M("material-unknown", ["--material", "unobtainium"], ["rod.material", "unobtainium"]),
-    M("material-empty", ["--material", ""], ['rod.material = ""'],
-      xfail="exit 2, but the message is `rod.material = : must be one of ...`: the empty "
-            "value is not quoted"),
+    M("material-empty", ["--material", ""], ['rod.material = ""']),
     M("modes-negative", ["--modes", "-1"], ["reduction.modes", "-1"]),
     M("modes-too-many", ["--modes", "5000"], ["reduction.modes", "5000"]),
     M("modes-fraction", ["--modes", "2.5"], ["reduction.modes", "2.5"]),
@@ -726,9 +716,7 @@ STUDY = [
       out=False),
     S("out-under-file", FRICTION, ["--no-plot", "--out", "{tmp}/plain/sub"],
       ["--out", "{tmp}/plain/sub"], out=False),
-    S("out-empty", FRICTION, ["--no-plot", "--out", ""], ['--out = ""'], out=False,
-      xfail="exit 2, but the message is `--out = : cannot create this directory: Invalid "
-            "argument`: the empty value is not quoted"),
+    S("out-empty", FRICTION, ["--no-plot", "--out", ""], ['--out = ""'], out=False),
 ]
 
 # --------------------------------------------------------------------------------------------
@@ -851,9 +839,7 @@ SWEEP = [
     W("store-unknown-option", RIG + '[store]\ncolour = "red"\n', ["store.colour", "red"]),
     W("store-unknown-channel", RIG + '[store]\nchannels = "slider_jerk"\n',
       ["store.channels", "slider_jerk"]),
-    W("store-no-channel", RIG + '[store]\nchannels = ""\n', ['store.channels = ""'],
-      xfail="exit 2, but the message is `store.channels = : must name at least one channel`: "
-            "the empty value is not quoted"),
+    W("store-no-channel", RIG + '[store]\nchannels = ""\n', ['store.channels = ""']),
     W("store-rate-not-dividing", RIG + '[store]\nrate = "30 kHz"\n', ["store.rate", "30000"]),
     W("store-rate-negative", RIG + '[store]\nrate = "-10 kHz"\n', ["store.rate", "-10000"]),
     W("store-rate-abc", RIG + '[store]\nrate = "abc"\n', ["store.rate", '"abc"']),
@@ -962,9 +948,7 @@ COMPARE = [
       ["--comparison", "13", "group I"], files=WITH_STORE),
     K("missing-store", "{tmp}/nonexistent.h5", [], ["store", "{tmp}/nonexistent.h5"]),
     K("no-store", None, [], ["store is required"]),
-    K("empty-store-argument", "", [], ['store = ""'],
-      xfail="exit 2, but the message is `store = : does not exist`: the empty value is not "
-            "quoted"),
+    K("empty-store-argument", "", [], ['store = ""']),
     K("directory-as-store", "{tmp}/adir", [], ["store", "{tmp}/adir", "directory"],
       xfail="exit 2, but the message is `store = <tmp>/adir: does not exist`: the directory "
             "exists; the rule stated is wrong"),
@@ -984,9 +968,7 @@ COMPARE = [
     K("out-under-file", STORE_ARG, ["--no-plot", "--out", "{tmp}/plain/sub"],
       ["--out", "{tmp}/plain/sub"], out=False, files=WITH_STORE),
     K("out-empty", STORE_ARG, ["--no-plot", "--out", ""], ['--out = ""'], out=False,
-      files=WITH_STORE,
-      xfail="exit 2, but the message is `--out = : cannot create this directory: Invalid "
-            "argument`: the empty value is not quoted"),
+      files=WITH_STORE),
     K("unknown-flag", STORE_ARG, ["--frobnicate"], ["--frobnicate"], files=WITH_STORE),
     K("extra-positional", STORE_ARG, ["extra"], ["extra"], files=WITH_STORE),
 ]
