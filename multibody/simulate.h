@@ -191,8 +191,41 @@ class SampleView {
   mutable KnownPotential known_;
 };
 
+/// The integrator's last accepted step as a function of time: the solution anywhere in
+/// [t_begin(), t_end()] from the step's interpolating polynomial (the one the samples come
+/// from), for callers that locate an extremum inside a step (the impact log's peaks).
+class StepInterpolant {
+ public:
+  /// Writes y(t), ẏ(t) (full layout) for t in the step.
+  using Evaluate = std::function<void(double t, double* y, double* yp)>;
+  StepInterpolant(const Mechanism& model, RunData* data, double t_begin, double t_end,
+                  Evaluate evaluate, Vec* y, Vec* yp)
+      : model_(model),
+        data_(data),
+        t_begin_(t_begin),
+        t_end_(t_end),
+        evaluate_(std::move(evaluate)),
+        y_(y),
+        yp_(yp) {}
+  double t_begin() const { return t_begin_; }  ///< [s]
+  double t_end() const { return t_end_; }      ///< [s]
+  /// The solution at t, clamped to the step; valid until the next call of At.
+  SampleView At(double t) const;
+
+ private:
+  const Mechanism& model_;
+  RunData* data_;
+  double t_begin_, t_end_;
+  Evaluate evaluate_;
+  Vec* y_;
+  Vec* yp_;
+};
+
 struct SimulationCallbacks {
   std::function<void(const SampleView&)> on_sample;
+  /// Each accepted step as a whole, before on_step reports its end point (the samples inside
+  /// it have been offered).
+  std::function<void(const StepInterpolant&)> on_step_interval;
   /// Every solution point the integrator returns: each accepted step's end, each located root
   /// (after the elements' OnRoot updates and the restart) and each stop time. In time order
   /// with the samples; a sample at the same time comes first.

@@ -3,7 +3,9 @@
 #include "study/impact_log.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "common/error.h"
@@ -56,6 +58,64 @@ void ImpactLogger::Observe(const ContactPoint& p) {
     if (!p.contact) Close(p.time, open_.complete);  // the located separation
   }
   last_ = p;
+}
+
+void ImpactLogger::ObservePeak(double time, double normal_force, double penetration) {
+  if (!is_open_ || time < open_.time) return;
+  if (normal_force > open_.peak_force) {
+    open_.peak_force = normal_force;
+    open_.time_of_peak_force = time;
+  }
+  open_.peak_penetration = std::max(open_.peak_penetration, penetration);
+}
+
+LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b) {
+  const double width = b - a, d = 1e-4 * width;
+  const double fa = f(a), fb = f(b), m = 0.5 * (a + b), fm = f(m);
+  // A maximum lies inside if f rises from a and falls into b (one-sided differences over 1e-4
+  // of the step), or if the midpoint beats both ends.
+  const bool rises = f(a + d) > fa, falls = f(b - d) > fb;
+  if (!(rises && falls) && !(fm > std::max(fa, fb))) {
+    return {a, -std::numeric_limits<double>::infinity()};
+  }
+  LocatedMaximum best{m, fm};
+  double lo = a, hi = b;
+  // Golden-section search over the step (f is unimodal there: a peak of a smooth pulse).
+  const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = f(x1), f2 = f(x2);
+  // To 1e-9 of the step, or the resolution of t itself (a step can be a few ulp of t long).
+  const double resolution =
+      std::max(1e-9 * width, 8.0 * std::numeric_limits<double>::epsilon() * std::abs(b));
+  for (int it = 0; it < 64 && hi - lo > resolution; ++it) {
+    if (f1 < f2) {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + r * (hi - lo);
+      f2 = f(x2);
+    } else {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - r * (hi - lo);
+      f1 = f(x1);
+    }
+  }
+  if (f1 > best.value) best = {x1, f1};
+  if (f2 > best.value) best = {x2, f2};
+  return best;
+}
+
+void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
+                       ImpactLogger* log) {
+  if (!log->in_impact()) return;
+  auto response = [&](double t) { return multibody::CalcClearanceResponse(step.At(t), joint); };
+  const LocatedMaximum force = LocateInteriorMaximum(
+      [&](double t) { return response(t).normal_force; }, step.t_begin(), step.t_end());
+  const LocatedMaximum depth = LocateInteriorMaximum(
+      [&](double t) { return response(t).kinematics.penetration; }, step.t_begin(), step.t_end());
+  if (force.value > 0.0) log->ObservePeak(force.t, force.value, 0.0);
+  if (depth.value > 0.0) log->ObservePeak(depth.t, 0.0, depth.value);
 }
 
 void ImpactLogger::Close(double t, bool complete) {

@@ -6,9 +6,10 @@
 // next located separation, so an impact shorter than a sample period is logged as well as a
 // long one, and a persistent contact (the pin sliding or rolling on the bush wall) is one long
 // impact. Onset time, crank angle and approach velocity are the values at the located onset;
-// the duration is separation − onset. Peaks and the dissipated energy are taken over every
-// solution point the run offers inside the impact: the integrator's accepted steps, its located
-// events and the output samples (the steps are sub-microsecond inside an impact). Nothing is
+// the duration is separation − onset. The dissipated energy is integrated over every solution
+// point the run offers inside the impact: the integrator's accepted steps, its located events
+// and the output samples (the steps are sub-microsecond inside an impact); the peak force and
+// penetration are located inside each step (LocateImpactPeaks). Nothing is
 // filtered: every located onset is logged. The joint's coordinates carry their relative
 // tolerance on the clearance (ForceElement::ResolvedLength), so the onsets are contact, not
 // position error (tests/study/clearance_tolerance_reftest.cc). Near-separations of a riding
@@ -20,10 +21,12 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "multibody/clearance_joint.h"
+#include "multibody/simulate.h"
 #include "study/timeseries.h"
 
 namespace flexrod::study {
@@ -49,21 +52,44 @@ struct Impact {
   double time{0.0};         ///< located onset (or the start of the log, if already in contact) [s]
   double crank_angle{0.0};  ///< at `time`, wrapped to [0, 2π) [rad]
   double approach_velocity{0.0};  ///< δ̇ at `time`: the located onset, or the start of the log [m/s]
-  double peak_force{0.0};         ///< max F_n over the impact's solution points [N]
+  double peak_force{0.0};  ///< max F_n: solution points and located peaks (LocateImpactPeaks) [N]
   double time_of_peak_force{0.0};  ///< [s]
   double duration{0.0};            ///< located separation (or the end of the log) − time [s]
-  double peak_penetration{0.0};    ///< max δ over the impact's solution points [m]
+  double peak_penetration{0.0};    ///< max δ, as peak_force [m]
   /// Energy the contact removed from the mechanism, ∫ dissipation dt over the impact (normal
   /// damping and friction), trapezoidal rule over its solution points [J].
   double dissipated_energy{0.0};
   bool complete{true};  ///< false if the log starts or ends inside the impact
 };
 
+/// The largest value of f over [a, b] when it lies inside the interval — f rises from a and
+/// falls into b, or the midpoint beats both ends — by golden-section search to a bracket of
+/// 1e-9 (b − a) (or of t's own resolution; at most 64 steps). Returns {t, f(t)}, or {a, −inf} when
+/// no interior point beats both ends (the ends are solution points the log sees anyway).
+struct LocatedMaximum {
+  double t{0.0};
+  double value{0.0};
+};
+LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b);
+
+/// Inside an open impact of `log`, locates the peak normal force and penetration of the
+/// clearance joint `joint` within the integrator's step (LocateInteriorMaximum on its
+/// interpolating polynomial) and offers them (ObservePeak): the solution points alone gave
+/// peaks up to 5e-4 low. Does nothing outside an impact.
+class ImpactLogger;
+void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
+                       ImpactLogger* log);
+
 /// Builds the log from the solution points of a run, offered in time order (steps, located
 /// events and samples; any window of the run: the first point opens the log, the last closes it).
 class ImpactLogger {
  public:
   void Observe(const ContactPoint& p);
+  /// True between a located onset and its separation.
+  bool in_impact() const { return is_open_; }
+  /// A peak located between solution points (LocateImpactPeaks): raises the open impact's
+  /// peak force and penetration if it is later than its onset and higher.
+  void ObservePeak(double time, double normal_force, double penetration);
   /// Every impact in time order; one still open is closed at the last point, incomplete.
   std::vector<Impact> Finish();
 

@@ -1,0 +1,110 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""flexrod against Exudyn 1.11 on the same flexible slider-crank (issue 24, "Speed").
+
+  benchmarks/exudyn_match.py [--rounds N] [--binary build/flexrod] [--input FILE] [-- extra --set args]
+
+Runs `flexrod run` on benchmarks/exudyn-match.toml (a copy of ../shared/bench/) twice: the ideal joint (the file's
+header: joint.type=ideal, sim.sample_rate=10 kHz) and the 0.5 mm clearance joint (its ideal
+twin included, as a clearance run computes it). Each case runs N times (default 3) in a fresh
+process; per case it prints the process CPU time (user + system, every thread: the twin runs
+on a second core when there is one), the minimum over the rounds, the ratio to Exudyn's CPU
+time on this machine class, and the run's steps, residuals, Jacobians, events and the
+integrator's time shares. Timing only: never a test.
+
+Exudyn's CPU times are the ones the input file's header quotes (Exudyn 1.11, fixed-step
+generalised-alpha, 10 Craig-Bampton modes of a 2565-dof solid rod, one core): ideal joint
+7.4 s (h = 1e-4 s), clearance 95 s (h = 1e-5 s), 3 s simulated each.
+"""
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EXUDYN_CPU = {"ideal": 7.4, "clearance": 95.0}  # [s] ../shared/bench/exudyn-match.toml header
+CASES = {
+    "ideal": ["--set", "joint.type=ideal", "--set", "sim.sample_rate=10 kHz"],
+    "clearance": [],
+}
+
+
+def run_once(binary, toml, args):
+    """One run in a fresh process: (CPU seconds of the child, summary)."""
+    out = tempfile.mkdtemp(prefix="flexrod_exudyn_match_")
+    try:
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run([binary, "run", toml, "--no-plot", "--out", out, *args],
+                              capture_output=True, text=True)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if proc.returncode != 0:
+            sys.stderr.write(proc.stderr)
+            raise SystemExit(1)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        with open(os.path.join(out, "summary.json")) as f:
+            return cpu, json.load(f)
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+
+
+def describe(name, s):
+    it = s["integrator"]
+    wall = s["wall_time [s]"]
+    line = ("    %-5s solver wall %.3f s: %d steps, %d residuals, %d Jacobians, %d events, "
+            "%d error-test / %d convergence failures; output (sampling) %.0f %% of the wall"
+            % (name, wall, it["steps"], it["residual_evaluations"], it["jacobian_evaluations"],
+               it["roots_found"], it["error_test_failures"], it["nonlinear_convergence_failures"],
+               100.0 * it["output_time [s]"] / wall if wall > 0 else 0.0))
+    print(line)
+
+
+def main(argv):
+    rounds = 3
+    binary = os.path.join(HERE, "..", "build", "flexrod")
+    toml = os.path.join(HERE, "exudyn-match.toml")  # a copy of ../shared/bench/exudyn-match.toml
+    extra = []
+    i = 1
+    while i < len(argv):
+        if argv[i] == "--rounds":
+            rounds, i = int(argv[i + 1]), i + 2
+        elif argv[i] == "--binary":
+            binary, i = argv[i + 1], i + 2
+        elif argv[i] == "--input":
+            toml, i = argv[i + 1], i + 2
+        elif argv[i] == "--":
+            extra, i = argv[i + 1:], len(argv)
+        else:
+            print(__doc__, file=sys.stderr)
+            return 2
+    if rounds < 1 or not os.path.isfile(toml):
+        print(__doc__, file=sys.stderr)
+        return 2
+    for case, args in CASES.items():
+        cpus, summary = [], None
+        for _ in range(rounds):
+            cpu, summary = run_once(binary, toml, args + extra)
+            cpus.append(cpu)
+        best = min(cpus)
+        print("%s: flexrod CPU min %.3f s over %d runs (%s s); Exudyn %.1f s; Exudyn / flexrod = %.1f"
+              % (case, best, rounds, ", ".join("%.3f" % c for c in cpus), EXUDYN_CPU[case],
+                 EXUDYN_CPU[case] / best))
+        describe("run", summary)
+        if "ideal" in summary and "integrator" in summary["ideal"]:
+            describe("twin", summary["ideal"])
+        a = summary.get("slider_acceleration", {})
+        if a:
+            print("    slider acceleration: peak +%.4g / -%.4g m/s^2, p95 of per-revolution |peak| %.4g m/s^2"
+                  % (a["peak_positive"], a["peak_negative"], a["per_revolution_abs"]["p95"]))
+        amp = summary.get("load_amplification")
+        if amp:
+            print("    load amplification: slider acceleration +%.4g (p95 %.4g), bearing force %.4g (p95 %.4g)"
+                  % (amp["slider_acceleration_positive"], amp["slider_acceleration_positive_p95"],
+                     amp["bearing_force"], amp["bearing_force_p95"]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
