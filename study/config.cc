@@ -116,6 +116,23 @@ std::vector<std::string> SplitList(const std::string& text) {
   return out;
 }
 
+std::vector<std::string> SplitUserList(const std::string& key, const std::string& text) {
+  std::vector<std::string> out = SplitList(text);
+  const auto commas = static_cast<std::size_t>(std::count(text.begin(), text.end(), ','));
+  if (!out.empty() && out.size() != commas + 1) {
+    throw InputError(key, "\"" + text + "\"",
+                     "has an empty item: a comma list names each item once");
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (std::find(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(i), out[i]) !=
+        out.begin() + static_cast<std::ptrdiff_t>(i)) {
+      throw InputError(key, "\"" + text + "\"",
+                       "lists \"" + out[i] + "\" twice: a comma list names each item once");
+    }
+  }
+  return out;
+}
+
 void Config::Set(const std::string& key, const std::string& text) {
   const ParamDef& p = Lookup(key);
   CheckValue(p, text);

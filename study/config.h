@@ -21,7 +21,11 @@ enum class ParamKind { kQuantity, kInteger, kChoice, kText, kBool };
 struct ParamDef {
   ParamDef(std::string k, ParamKind kd, Dimension d, std::string def, std::string dc,
            std::vector<std::string> ch = {})
-      : key(std::move(k)), kind(kd), dim(d), default_text(std::move(def)), doc(std::move(dc)),
+      : key(std::move(k)),
+        kind(kd),
+        dim(d),
+        default_text(std::move(def)),
+        doc(std::move(dc)),
         choices(std::move(ch)) {}
   std::string key;
   ParamKind kind{ParamKind::kQuantity};
@@ -38,6 +42,9 @@ const ParamDef* FindParam(const std::string& key);
 /// Items of a comma-separated list (list-valued text keys, store attributes), each trimmed of
 /// blanks; empty items are dropped.
 std::vector<std::string> SplitList(const std::string& text);
+/// SplitList of the user's value of `key`: an empty item ("a,,b", "a,") or an item listed twice
+/// is an InputError naming the key, the value and the rule.
+std::vector<std::string> SplitUserList(const std::string& key, const std::string& text);
 
 class Config {
  public:

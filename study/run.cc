@@ -29,7 +29,8 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::vector<double> ParseList(const std::string& key, const std::string& text, Dimension dim) {
   std::vector<double> out;
-  for (const std::string& item : SplitList(text)) out.push_back(ParseQuantity(key, item, dim));
+  for (const std::string& item : SplitUserList(key, text))
+    out.push_back(ParseQuantity(key, item, dim));
   return out;
 }
 

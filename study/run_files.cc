@@ -153,7 +153,7 @@ OutputSelection ReadOutputSelection(const Config& cfg, double sample_rate,
   const std::string list = cfg.Text("output.channels");
   sel.standard = list == "standard";
   if (!sel.standard && list != "all") {
-    for (const std::string& item : SplitList(list)) {
+    for (const std::string& item : SplitUserList("output.channels", list)) {
       if (available && std::find(available->begin(), available->end(), item) == available->end()) {
         std::string names;
         for (const std::string& n : *available) names += (names.empty() ? "" : ", ") + n;
@@ -178,7 +178,7 @@ OutputSelection ReadOutputSelection(const Config& cfg, double sample_rate,
   }
   const std::string formats = cfg.Text("output.format");
   sel.hdf5 = sel.csv = false;
-  for (const std::string& f : SplitList(formats)) {
+  for (const std::string& f : SplitUserList("output.format", formats)) {
     if (f == "hdf5") {
       sel.hdf5 = true;
     } else if (f == "csv") {

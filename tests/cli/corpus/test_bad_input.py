@@ -336,14 +336,10 @@ RUN = [
       ["joint.friction", "-1"],
       xfail=UNUSED.format(rule="> 0", why="joint.friction_law is none")),
     # comma lists
-    R("gauges-empty-item", ["output.gauges=0.02,,0.1"], ["output.gauges", "0.02,,0.1"],
-      xfail="accepted, exit 0 and a run written: the empty item of the list is skipped"),
+    R("gauges-empty-item", ["output.gauges=0.02,,0.1"], ["output.gauges", "0.02,,0.1"]),
     R("channels-empty-item", ["output.channels=slider_acceleration,,crank_angle"],
-      ["output.channels", "slider_acceleration,,crank_angle"],
-      xfail="accepted, exit 0 and a run written: the empty item of the list is skipped"),
-    R("format-repeated", ["output.format=hdf5,hdf5"], ["output.format", "hdf5,hdf5"],
-      xfail="accepted, exit 0 and a run written, although the rule is `must be hdf5, csv or "
-            "hdf5,csv`"),
+      ["output.channels", "slider_acceleration,,crank_angle"]),
+    R("format-repeated", ["output.format=hdf5,hdf5"], ["output.format", "hdf5,hdf5"]),
     # --vtk and vtk.*
     R("vtk-scale-negative", ["vtk.scale=-1"], ["vtk.scale", "-1"], input="rigid-rig",
       extra=["--vtk", "{tmp}/vtk"]),
