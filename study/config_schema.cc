@@ -49,7 +49,8 @@ const std::vector<ParamDef>& Schema() {
        K::kChoice,
        D::kDimensionless,
        "craig-bampton",
-       "rod basis",
+       "rod basis (full: every FE coordinate; run it at sim.abs_tol = 1e-8, as `study reduction` "
+       "does: at 1e-10 its stiffest modes hold the step)",
        {"craig-bampton", "orthonormal-cb", "free-free", "full"}},
       {"reduction.modes", K::kInteger, D::kDimensionless, "8",
        "fixed-interface normal modes kept, >= 0"},
