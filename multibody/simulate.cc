@@ -739,6 +739,20 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
     if (callbacks.on_step)
       callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
   };
+  // The interval view of each accepted step (on_step_interval), built once: its polynomial is
+  // cached on the first evaluation inside the step.
+  bool step_polynomial_cached = false;
+  StepInterpolant step_interval(
+      model, data,
+      [&](double t, double* y, double* yp) {
+        if (!step_polynomial_cached) {
+          ida.CacheStepPolynomial();
+          step_polynomial_cached = true;
+        }
+        ida.EvaluateStepPolynomial(t, y, yp, prescribed.kept_unknowns().data());
+        prescribed.ExpandPrescribed(t, y, yp);
+      },
+      &ybuf, &ypbuf);
   try {
     for (;;) {
       const double t_before = t_now;
@@ -750,19 +764,9 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
       if (res.outcome == StepOutcome::kStep) ++steps;
       emit_up_to(t_now, true);
       if (res.outcome == StepOutcome::kStep && callbacks.on_step_interval) {
-        bool cached = false;
-        const StepInterpolant step(
-            model, data, t_before, t_now,
-            [&](double t, double* y, double* yp) {
-              if (!cached) {
-                ida.CacheStepPolynomial();
-                cached = true;
-              }
-              ida.EvaluateStepPolynomial(t, y, yp, prescribed.kept_unknowns().data());
-              prescribed.ExpandPrescribed(t, y, yp);
-            },
-            &ybuf, &ypbuf);
-        callbacks.on_step_interval(step);
+        step_polynomial_cached = false;
+        step_interval.SetInterval(t_before, t_now);
+        callbacks.on_step_interval(step_interval);
       }
       if (res.outcome == StepOutcome::kStep && callbacks.on_step) {
         expand_current(t_now, &yev, &ypev);

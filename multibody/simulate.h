@@ -198,15 +198,13 @@ class StepInterpolant {
  public:
   /// Writes y(t), ẏ(t) (full layout) for t in the step.
   using Evaluate = std::function<void(double t, double* y, double* yp)>;
-  StepInterpolant(const Mechanism& model, RunData* data, double t_begin, double t_end,
-                  Evaluate evaluate, Vec* y, Vec* yp)
-      : model_(model),
-        data_(data),
-        t_begin_(t_begin),
-        t_end_(t_end),
-        evaluate_(std::move(evaluate)),
-        y_(y),
-        yp_(yp) {}
+  StepInterpolant(const Mechanism& model, RunData* data, Evaluate evaluate, Vec* y, Vec* yp)
+      : model_(model), data_(data), evaluate_(std::move(evaluate)), y_(y), yp_(yp) {}
+  /// The step [t_begin, t_end] [s] that `evaluate` now interpolates.
+  void SetInterval(double t_begin, double t_end) {
+    t_begin_ = t_begin;
+    t_end_ = t_end;
+  }
   double t_begin() const { return t_begin_; }  ///< [s]
   double t_end() const { return t_end_; }      ///< [s]
   /// The solution at t, clamped to the step; valid until the next call of At.
@@ -215,8 +213,8 @@ class StepInterpolant {
  private:
   const Mechanism& model_;
   RunData* data_;
-  double t_begin_, t_end_;
   Evaluate evaluate_;
+  double t_begin_{0.0}, t_end_{0.0};
   Vec* y_;
   Vec* yp_;
 };

@@ -3,10 +3,12 @@
 #include "study/impact_log.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "common/error.h"
 #include "common/files.h"
@@ -109,7 +111,18 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
 void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
                        ImpactLogger* log) {
   if (!log->in_impact()) return;
-  auto response = [&](double t) { return multibody::CalcClearanceResponse(step.At(t), joint); };
+  // Both searches test the same five points (ends, midpoint, one-sided differences): the
+  // second reads the first's responses instead of evaluating the joint again.
+  std::array<std::pair<double, multibody::ClearanceResponse>, 5> seen;
+  std::size_t num_seen = 0;
+  auto response = [&](double t) {
+    for (std::size_t i = 0; i < num_seen; ++i) {
+      if (seen[i].first == t) return seen[i].second;
+    }
+    const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(step.At(t), joint);
+    if (num_seen < seen.size()) seen[num_seen++] = {t, r};
+    return r;
+  };
   const LocatedMaximum force = LocateInteriorMaximum(
       [&](double t) { return response(t).normal_force; }, step.t_begin(), step.t_end());
   const LocatedMaximum depth = LocateInteriorMaximum(
