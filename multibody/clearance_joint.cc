@@ -5,7 +5,9 @@
 #include "multibody/clearance_joint.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <type_traits>
 #include <typeinfo>
@@ -36,8 +38,7 @@ ElasticEnergy PowerLawEnergy(double stiffness, double exponent, double penetrati
 /// Line-contact laws δ(F) = aF[ln(b/F) + c₀]: E = ∫₀^δ F dδ = Fδ − ∫₀^F δ(f) df = ½Fδ − ¼aF²
 /// on the elastic branch; beyond δ_lim = aF_lim the force is continued linearly with slope 1/a
 /// (normal_law.h), so E = ¼aF_lim² + F_lim Δ + Δ²/(2a), Δ = δ − δ_lim.
-ElasticEnergy LineLawEnergy(const contact::LogLineCurve& curve, double penetration,
-                            double force) {
+ElasticEnergy LineLawEnergy(const contact::LogLineCurve& curve, double penetration, double force) {
   const double a = curve.coefficient;
   const double limit_force = curve.force_scale * std::exp(curve.constant - 1.0);
   const double limit_penetration = a * limit_force;
@@ -50,8 +51,8 @@ ElasticEnergy LineLawEnergy(const contact::LogLineCurve& curve, double penetrati
 }
 
 /// The stored energy of the law. `in_contact`: flag on and δ > 0; `force` is the law's F.
-ElasticEnergy CalcElasticEnergy(const contact::NormalLaw& law, bool in_contact,
-                                double penetration, const LawState& s, double force) {
+ElasticEnergy CalcElasticEnergy(const contact::NormalLaw& law, bool in_contact, double penetration,
+                                const LawState& s, double force) {
   const double d = penetration;
   return std::visit(
       [&](const auto& l) -> ElasticEnergy {
@@ -100,18 +101,23 @@ ElasticEnergy CalcElasticEnergy(const contact::NormalLaw& law, bool in_contact,
       law);
 }
 
-/// ẋ_d of the normal law's differential state. Maxwell: the law's rate in contact, at rest
-/// otherwise. Standard linear solid: the arm relaxes towards the wall surface
-/// δ_eff = max(δ, δ_w) in contact and δ_w when open, δ_w = k₂x/(k₁+k₂) (force-free wall).
-double NormalStateRate(const contact::NormalLaw& law, bool in_contact, double penetration,
-                       const LawState& s) {
+/// ẋ_d of the normal law's differential state and its partial derivatives. Maxwell: the law's
+/// rate in contact, at rest otherwise. Standard linear solid: the arm relaxes towards the wall
+/// surface δ_eff = max(δ, δ_w) in contact and δ_w when open, δ_w = k₂x/(k₁+k₂) (force-free
+/// wall), so where δ_w wins the rate depends on x alone.
+contact::LawStateRate NormalStateRate(const contact::NormalLaw& law, bool in_contact,
+                                      double penetration, const LawState& s) {
   if (const auto* l = std::get_if<contact::StandardLinearSolidLaw>(&law)) {
-    const double wall = l->arm_stiffness * s[0] / (l->stiffness + l->arm_stiffness);
-    const double effective = in_contact ? std::max(penetration, wall) : wall;
-    return contact::CalcLawStateRate(law, effective, s).rate;
+    const double wall_per_state = l->arm_stiffness / (l->stiffness + l->arm_stiffness);
+    const double wall = wall_per_state * s[0];
+    if (in_contact && penetration >= wall) return contact::CalcLawStateRate(law, penetration, s);
+    contact::LawStateRate r = contact::CalcLawStateRate(law, wall, s);
+    r.d_state += r.d_penetration * wall_per_state;
+    r.d_penetration = 0.0;
+    return r;
   }
-  if (!in_contact) return 0.0;
-  return contact::CalcLawStateRate(law, penetration, s).rate;
+  if (!in_contact) return {};
+  return contact::CalcLawStateRate(law, penetration, s);
 }
 
 /// The regularisation velocity of a friction law [m/s] (where its force changes fastest).
@@ -143,8 +149,7 @@ double HysteresisFloor(const contact::NormalLaw& law) {
 }
 
 contact::ClearanceKinematics Kinematics(const contact::ContactGeometry& g,
-                                        const MarkerKinematics& bush,
-                                        const MarkerKinematics& pin) {
+                                        const MarkerKinematics& bush, const MarkerKinematics& pin) {
   contact::ClearanceMotion motion;
   motion.bush_centre = bush.position;
   motion.bush_velocity = bush.velocity;
@@ -189,12 +194,31 @@ bool ClearanceJoint::InContact(const contact::ClearanceKinematics& k, const doub
   return memory[kContactFlag] > 0.5 && k.normal_defined && k.penetration > 0.0;
 }
 
-double ClearanceJoint::NormalForce(const contact::ClearanceKinematics& k, bool in_contact,
-                                   const LawState& s, const double* memory) const {
-  if (!in_contact) return 0.0;
-  return contact::CalcNormalForce(normal_law_, k.penetration, k.penetration_rate,
-                                  memory[kApproachVelocity], s)
-      .force;
+ClearanceJoint::LawValues ClearanceJoint::EvaluateLaws(const contact::ClearanceKinematics& k,
+                                                       const double* z,
+                                                       const double* memory) const {
+  LawValues v;
+  const double delta = k.penetration, rate = k.penetration_rate;
+  const LawState s = LawStateOf(z, memory);
+  v.in_contact = InContact(k, memory);
+  if (v.in_contact) {
+    v.normal = contact::CalcNormalForce(normal_law_, delta, rate, memory[kApproachVelocity], s);
+  }
+  if (normal_state_ >= 0) v.normal_rate = NormalStateRate(normal_law_, v.in_contact, delta, s);
+  const ElasticEnergy e = CalcElasticEnergy(normal_law_, v.in_contact, delta, s, v.normal.force);
+  v.potential_energy = e.energy;
+  v.normal_dissipation = (v.normal.force - e.d_penetration) * rate - e.d_state * v.normal_rate.rate;
+  // Friction (only while in contact: an open joint transmits nothing).
+  if (friction_law_ && v.in_contact) {
+    const double zf =
+        friction_state_ >= 0 ? z[friction_state_] - memory[kStatesAtOnset + friction_state_] : 0.0;
+    v.friction = contact::CalcFrictionForce(*friction_law_, k.slip_velocity, v.normal.force, zf);
+    if (friction_state_ >= 0) {
+      v.friction_rate = contact::CalcFrictionStateRate(*friction_law_, k.slip_velocity, zf);
+    }
+  }
+  v.friction_dissipation = -v.friction.force * k.slip_velocity;
+  return v;
 }
 
 ClearanceResponse ClearanceJoint::CalcResponse(const MarkerKinematics& bush,
@@ -202,40 +226,20 @@ ClearanceResponse ClearanceJoint::CalcResponse(const MarkerKinematics& bush,
                                                const double* memory) const {
   ClearanceResponse r;
   r.kinematics = Kinematics(geometry_, bush, pin);
-  const contact::ClearanceKinematics& k = r.kinematics;
-  const double delta = k.penetration, rate = k.penetration_rate;
   r.approach_velocity = memory[kApproachVelocity];
   r.contact_flag = memory[kContactFlag] > 0.5;
   r.onsets = std::lround(memory[kOnsetCount]);
   r.onset_time = memory[kOnsetTime];
-  const LawState s = LawStateOf(z, memory);
-
-  // Normal force, its state and its energy.
-  r.in_contact = InContact(k, memory);
-  r.normal_force = NormalForce(k, r.in_contact, s, memory);
-  double state_rate = 0.0;
-  if (normal_state_ >= 0) {
-    state_rate = NormalStateRate(normal_law_, r.in_contact, delta, s);
-    r.state_rates[normal_state_] = state_rate;
-  }
-  const ElasticEnergy e = CalcElasticEnergy(normal_law_, r.in_contact, delta, s, r.normal_force);
-  r.potential_energy = e.energy;
-  r.normal_dissipation = (r.normal_force - e.d_penetration) * rate - e.d_state * state_rate;
-
-  // Friction (only while in contact: an open joint transmits nothing).
-  if (friction_law_ && r.in_contact) {
-    const double zf = friction_state_ >= 0
-                          ? z[friction_state_] - memory[kStatesAtOnset + friction_state_]
-                          : 0.0;
-    r.friction_force =
-        contact::CalcFrictionForce(*friction_law_, k.slip_velocity, r.normal_force, zf).force;
-    if (friction_state_ >= 0) {
-      r.state_rates[friction_state_] =
-          contact::CalcFrictionStateRate(*friction_law_, k.slip_velocity, zf).rate;
-    }
-  }
-  r.friction_dissipation = -r.friction_force * k.slip_velocity;
-  r.loads = contact::CalcContactLoads(geometry_, k, r.normal_force, r.friction_force);
+  const LawValues v = EvaluateLaws(r.kinematics, z, memory);
+  r.in_contact = v.in_contact;
+  r.normal_force = v.normal.force;
+  r.friction_force = v.friction.force;
+  if (normal_state_ >= 0) r.state_rates[normal_state_] = v.normal_rate.rate;
+  if (friction_state_ >= 0) r.state_rates[friction_state_] = v.friction_rate.rate;
+  r.potential_energy = v.potential_energy;
+  r.normal_dissipation = v.normal_dissipation;
+  r.friction_dissipation = v.friction_dissipation;
+  r.loads = contact::CalcContactLoads(geometry_, r.kinematics, r.normal_force, r.friction_force);
   return r;
 }
 
@@ -269,19 +273,116 @@ bool ClearanceJoint::Evaluate(double /*t*/, const MarkerKinematics& bush,
   return true;
 }
 
-double ClearanceJoint::PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin,
-                                       const double* z, const double* memory) const {
-  // The normal part of CalcResponse only: energies are sampled at the output rate.
+// Rows o = [F_bush (2), M_bush, F_pin (2), M_pin, D, ż]; columns κ = [p_B, v_B, φ_B, ω_B, p_P,
+// v_P, φ_P, ω_P] (ForceElement). With e = p_P − p_B, ė = v_P − v_B, r = |e|, n = e/r, t = Jn:
+//   dn = t tᵀ de / r,  dt = −n tᵀ de / r,  dδ = nᵀ de,
+//   dδ̇ = (tᵀė / r) tᵀ de + nᵀ dė,  dv_t = −(δ̇ / r) tᵀ de + tᵀ dė + R_pin dω_P − R_bush dω_B,
+// and F_pin = −F_n n + F_t t = −F_bush, M_pin = R_pin F_t, M_bush = −R_bush F_t, with the laws'
+// own derivatives ∂F_n/∂(δ, δ̇, x), ∂F_t/∂(v_t, F_n, z), ∂ẋ/∂(δ, x), ∂ż/∂(v_t, z). The
+// dissipation row (energy bookkeeping; no force depends on it) is differenced in the law
+// variables (δ, δ̇, v_t, z): its closed form would need every law's second energy derivatives.
+bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush,
+                                      const MarkerKinematics& pin, const double* z,
+                                      const double* memory, Mat* d_kinematics,
+                                      Mat* d_states) const {
+  using Row = Eigen::Matrix<double, 1, kElementKinematicColumns>;
+  enum : int { kPB = 0, kVB = 2, kWB = 5, kPP = 6, kVP = 8, kWP = 11 };
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
-  const bool in_contact = InContact(k, memory);
-  const LawState s = LawStateOf(z, memory);
-  const double force = NormalForce(k, in_contact, s, memory);
-  return CalcElasticEnergy(normal_law_, in_contact, k.penetration, s, force).energy;
+  const LawValues v = EvaluateLaws(k, z, memory);
+  Mat& D = *d_kinematics;
+  Mat& Dz = *d_states;
+  const Vec2 n = k.normal, tg = k.tangent;
+  const Vec2 edot = pin.velocity - bush.velocity;
+  const double r = std::max(k.eccentricity_norm, contact::kMinEccentricity);
+  // Derivatives of the law variables with respect to κ.
+  Row d_delta = Row::Zero(), d_rate = Row::Zero(), d_slip = Row::Zero();
+  d_delta.segment<2>(kPP) = n.transpose();
+  d_rate.segment<2>(kPP) = (tg.dot(edot) / r) * tg.transpose();
+  d_rate.segment<2>(kVP) = n.transpose();
+  d_slip.segment<2>(kPP) = (-k.penetration_rate / r) * tg.transpose();
+  d_slip.segment<2>(kVP) = tg.transpose();
+  for (Row* row : {&d_delta, &d_rate, &d_slip}) row->segment<2>(kPB) = -row->segment<2>(kPP);
+  d_slip.segment<2>(kVB) = -tg.transpose();
+  d_rate.segment<2>(kVB) = -n.transpose();
+  d_slip(kWP) = geometry_.pin_radius;
+  d_slip(kWB) = -geometry_.bush_radius;
+
+  // Normal and friction forces: rows over κ and columns over z.
+  const Row d_fn = v.normal.d_penetration * d_delta + v.normal.d_rate * d_rate;
+  const Row d_ft = v.friction.d_slip * d_slip + v.friction.d_normal * d_fn;
+  std::array<double, kMaxClearanceStates> fn_z{}, ft_z{};
+  if (normal_state_ >= 0) {
+    fn_z[normal_state_] = v.normal.d_state;
+    ft_z[normal_state_] = v.friction.d_normal * v.normal.d_state;
+  }
+  if (friction_state_ >= 0) ft_z[friction_state_] = v.friction.d_state;
+  // F_pin = −F_n n + F_t t: the direction terms act through de only.
+  for (int a = 0; a < 2; ++a) {
+    D.row(3 + a) = -n(a) * d_fn + tg(a) * d_ft;
+    const double dir = (-v.normal.force * tg(a) - v.friction.force * n(a)) / r;  // ·tᵀ de
+    D.block<1, 2>(3 + a, kPP) += dir * tg.transpose();
+    D.block<1, 2>(3 + a, kPB) -= dir * tg.transpose();
+    D.row(a) = -D.row(3 + a);
+  }
+  D.row(5) = geometry_.pin_radius * d_ft;
+  D.row(2) = -geometry_.bush_radius * d_ft;
+  for (int s = 0; s < num_states_; ++s) {
+    for (int a = 0; a < 2; ++a) {
+      Dz(3 + a, s) = -n(a) * fn_z[s] + tg(a) * ft_z[s];
+      Dz(a, s) = -Dz(3 + a, s);
+    }
+    Dz(5, s) = geometry_.pin_radius * ft_z[s];
+    Dz(2, s) = -geometry_.bush_radius * ft_z[s];
+  }
+  // State rates.
+  if (normal_state_ >= 0) {
+    D.row(7 + normal_state_) = v.normal_rate.d_penetration * d_delta;
+    Dz(7 + normal_state_, normal_state_) = v.normal_rate.d_state;
+  }
+  if (friction_state_ >= 0 && v.in_contact) {
+    D.row(7 + friction_state_) = v.friction_rate.d_slip * d_slip;
+    Dz(7 + friction_state_, friction_state_) = v.friction_rate.d_state;
+  }
+
+  // Dissipation: central differences in the law variables.
+  const double step = std::cbrt(std::numeric_limits<double>::epsilon());
+  const FiniteDifferenceScales sc = fd_scales();
+  auto dissipation_slope = [&](double contact::ClearanceKinematics::*u, double scale) {
+    contact::ClearanceKinematics kp = k, km = k;
+    const double x0 = k.*u;
+    const volatile double xh = x0 + step * scale;
+    const double h = xh - x0;
+    kp.*u = x0 + h;
+    km.*u = x0 - h;
+    const LawValues vp = EvaluateLaws(kp, z, memory), vm = EvaluateLaws(km, z, memory);
+    return (vp.dissipation() - vm.dissipation()) / (2.0 * h);
+  };
+  D.row(6) = dissipation_slope(&contact::ClearanceKinematics::penetration, sc.length) * d_delta +
+             dissipation_slope(&contact::ClearanceKinematics::penetration_rate, sc.speed) * d_rate;
+  if (friction_law_ && v.in_contact) {
+    D.row(6) += dissipation_slope(&contact::ClearanceKinematics::slip_velocity, sc.speed) * d_slip;
+  }
+  for (int s = 0; s < num_states_; ++s) {
+    std::array<double, kMaxClearanceStates> zp{}, zm{};
+    for (int q = 0; q < num_states_; ++q) zp[q] = zm[q] = z[q];
+    const volatile double xh = z[s] + step * StateScale(s);
+    const double h = xh - z[s];
+    zp[s] = z[s] + h;
+    zm[s] = z[s] - h;
+    Dz(6, s) = (EvaluateLaws(k, zp.data(), memory).dissipation() -
+                EvaluateLaws(k, zm.data(), memory).dissipation()) /
+               (2.0 * h);
+  }
+  return D.allFinite() && Dz.allFinite();
 }
 
-void ClearanceJoint::Roots(double /*t*/, const MarkerKinematics& bush,
-                           const MarkerKinematics& pin, const double* /*z*/,
-                           const double* memory, double* g) const {
+double ClearanceJoint::PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin,
+                                       const double* z, const double* memory) const {
+  return EvaluateLaws(Kinematics(geometry_, bush, pin), z, memory).potential_energy;
+}
+
+void ClearanceJoint::Roots(double /*t*/, const MarkerKinematics& bush, const MarkerKinematics& pin,
+                           const double* /*z*/, const double* memory, double* g) const {
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
   const bool on = memory[kContactFlag] > 0.5;
   g[0] = on ? k.penetration + EventBand() : k.penetration - EventBand();
@@ -294,7 +395,7 @@ bool ClearanceJoint::OnRoot(int index, int direction, double t, const MarkerKine
   if (index == 0) {
     const bool on = memory[kContactFlag] > 0.5;
     if (on == (direction > 0)) return false;  // g₀ back through its own side: no change of state
-    if (!on) {  // onset
+    if (!on) {                                // onset
       memory[kContactFlag] = 1.0;
       memory[kApproachVelocity] = std::max({k.penetration_rate, min_approach_velocity_, 0.0});
       memory[kMaxPenetration] = 0.0;
@@ -344,9 +445,8 @@ ClearanceResponse CalcClearanceResponse(const SampleView& sample, ElementId elem
   // ClearanceJoint is final: an exact type test, cheaper than dynamic_cast at every sample.
   const ForceElement& element_ref = *slot.element;
   if (typeid(element_ref) != typeid(ClearanceJoint)) {
-    throw std::invalid_argument("CalcClearanceResponse: element '" + slot.name +
-                                "' is a " + slot.element->type_name() +
-                                ", not a clearance joint");
+    throw std::invalid_argument("CalcClearanceResponse: element '" + slot.name + "' is a " +
+                                slot.element->type_name() + ", not a clearance joint");
   }
   const MarkerKinematics bush = sample.Marker(MarkerId{slot.marker_i});
   const MarkerKinematics pin = sample.Marker(MarkerId{slot.marker_j});

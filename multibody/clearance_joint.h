@@ -96,15 +96,15 @@ struct ClearanceResponse {
   contact::ClearanceKinematics kinematics;  ///< δ, δ̇, n, t, slip, eccentricity (contact/geometry.h)
   bool in_contact{false};                   ///< contact flag on and δ > 0
   bool contact_flag{false};                 ///< on from a located onset to the located separation
-  long onsets{0};                           ///< onsets located so far in the run (incl. a start in contact)
-  double onset_time{0.0};                   ///< time of the last located onset [s]
-  double approach_velocity{0.0};            ///< v₀ in use [m/s]
-  double normal_force{0.0};                 ///< F_n ≥ 0 [N]
-  double friction_force{0.0};               ///< F_t on the pin along t [N]
-  contact::ContactLoads loads;              ///< force on pin/bush, moments about the centres
-  double potential_energy{0.0};             ///< elastic energy stored in the contact E [J]
-  double normal_dissipation{0.0};           ///< F_n δ̇ − dE/dt [W]
-  double friction_dissipation{0.0};         ///< −F_t v_t [W]
+  long onsets{0};                  ///< onsets located so far in the run (incl. a start in contact)
+  double onset_time{0.0};          ///< time of the last located onset [s]
+  double approach_velocity{0.0};   ///< v₀ in use [m/s]
+  double normal_force{0.0};        ///< F_n ≥ 0 [N]
+  double friction_force{0.0};      ///< F_t on the pin along t [N]
+  contact::ContactLoads loads;     ///< force on pin/bush, moments about the centres
+  double potential_energy{0.0};    ///< elastic energy stored in the contact E [J]
+  double normal_dissipation{0.0};  ///< F_n δ̇ − dE/dt [W]
+  double friction_dissipation{0.0};                       ///< −F_t v_t [W]
   std::array<double, kMaxClearanceStates> state_rates{};  ///< ż (num_states() entries)
   /// Total dissipation rate [W].
   double dissipation() const { return normal_dissipation + friction_dissipation; }
@@ -129,8 +129,13 @@ class ClearanceJoint final : public ForceElement {
                   double* memory) const override;
   bool Evaluate(double t, const MarkerKinematics& bush, const MarkerKinematics& pin,
                 const double* z, const double* memory, ElementOutput* out) const override;
-  double PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin,
-                         const double* z, const double* memory) const override;
+  /// Forces, moments and state rates analytic from the laws' derivatives; the dissipation
+  /// row differenced in the law variables (see the definition).
+  bool EvaluateJacobian(double t, const MarkerKinematics& bush, const MarkerKinematics& pin,
+                        const double* z, const double* memory, Mat* d_kinematics,
+                        Mat* d_states) const override;
+  double PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin, const double* z,
+                         const double* memory) const override;
   /// g[0] = δ − b with the flag off, δ + b with it on [m] (b = EventBand()); g[1] = δ̇ [m/s]
   /// while in contact, 1 otherwise (elasto-plastic only).
   void Roots(double t, const MarkerKinematics& bush, const MarkerKinematics& pin, const double* z,
@@ -168,11 +173,22 @@ class ClearanceJoint final : public ForceElement {
   double min_approach_velocity() const { return min_approach_velocity_; }
 
  private:
+  /// The laws at given kinematics (δ, δ̇ and v_t are all they read), with their derivatives.
+  struct LawValues {
+    bool in_contact{false};
+    contact::NormalForce normal;               ///< F_n and ∂F_n/∂(δ, δ̇, x) (zero when open)
+    contact::LawStateRate normal_rate;         ///< ẋ of the normal law's state
+    contact::FrictionForce friction;           ///< F_t and ∂F_t/∂(v_t, F_n, z) (zero when open)
+    contact::FrictionStateRate friction_rate;  ///< ż of LuGre (zero when open)
+    double potential_energy{0.0};              ///< E [J]
+    double normal_dissipation{0.0};            ///< F_n δ̇ − dE/dt [W]
+    double friction_dissipation{0.0};          ///< −F_t v_t [W]
+    double dissipation() const { return normal_dissipation + friction_dissipation; }
+  };
+  LawValues EvaluateLaws(const contact::ClearanceKinematics& k, const double* z,
+                         const double* memory) const;
   contact::LawState LawStateOf(const double* z, const double* memory) const;
   bool InContact(const contact::ClearanceKinematics& k, const double* memory) const;
-  /// Normal force [N] (0 when not in contact), without friction or loads.
-  double NormalForce(const contact::ClearanceKinematics& k, bool in_contact,
-                     const contact::LawState& s, const double* memory) const;
 
   contact::ContactGeometry geometry_;
   contact::NormalLaw normal_law_;

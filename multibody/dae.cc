@@ -936,9 +936,8 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
     const Vec2 F0[2] = {Vec2(es.o_plus(0), es.o_plus(1)), Vec2(es.o_plus(3), es.o_plus(4))};
     const FiniteDifferenceScales sc = e.element->fd_scales();
     es.Do.setZero();
-    const bool analytic =
-        ns == 0 && e.element->EvaluateJacobian(t, k0[0], k0[1], mem, &es.analytic);
-    if (analytic) es.Do.topRows(7) = es.analytic;
+    es.Dz.setZero();
+    const bool analytic = e.element->EvaluateJacobian(t, k0[0], k0[1], ze, mem, &es.Do, &es.Dz);
     // Relative-kinematics elements: positions and velocities are differenced on one side
     // (j if it is on a body), the other side's columns are their negatives, angles are skipped.
     const bool relative = e.element->relative_kinematics();
@@ -963,7 +962,7 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
         es.Do.col(6 * side + c) = (es.o_plus - es.o_minus) / (2.0 * h);
       }
     }
-    for (int k = 0; k < ns; ++k) {
+    for (int k = 0; k < (analytic ? 0 : ns); ++k) {
       es.z_fd = CMap(ze, ns);
       const double x0 = ze[k];
       const volatile double xh = x0 + kFdStep * e.element->StateScale(k);

@@ -14,16 +14,16 @@
 // with Q = Q_v + Q_e + Q_gravity + Q_elements + Q_motor (ffrf-planar.md).
 //
 // Jacobian dF/dy + c_j dF/dẏ: analytic for everything except force elements without an
-// analytic ForceElement::EvaluateJacobian (the exact rod's beam elements have one). Analytic
-// blocks: identities, c_j M, the velocity and position derivatives of M v̇ − Q_v − Q_e −
+// analytic ForceElement::EvaluateJacobian (the exact rod's beam elements and the clearance
+// joint have one; the joint differences only its dissipation row, in the laws' variables).
+// Analytic blocks: identities, c_j M, the velocity and position derivatives of M v̇ − Q_v − Q_e −
 // Q_gravity (closed form from the shape integrals), G, Gᵀ, and the constraint Hessian terms
-// ∂(Gᵀλ)/∂p, ∂(Gᵀμ)/∂p, ∂(G v)/∂p. Other force elements: central finite differences of the
-// element outputs with respect to its kinematic inputs κ = (p_WM, v_WM, φ, ω) of both
-// markers and its states z, with step h = cbrt(ε)·scale (ε = 2.2e-16, scale from
-// ForceElement::fd_scales()/StateScale(); the realised step (x + h) − x is used), chained
-// analytically with the marker Jacobians (∂κ/∂p, ∂κ/∂v) and the geometric term
-// ∂(Jrᵀ F)/∂p. The test suite checks the whole matrix against a central-difference Jacobian
-// of the residual.
+// ∂(Gᵀλ)/∂p, ∂(Gᵀμ)/∂p, ∂(G v)/∂p. Element outputs are chained analytically with the marker
+// Jacobians (∂κ/∂p, ∂κ/∂v) and the geometric term ∂(Jrᵀ F)/∂p. Other force elements: central finite
+// differences of the element outputs with respect to its kinematic inputs κ = (p_WM, v_WM, φ, ω) of
+// both markers and its states z, with step h = cbrt(ε)·scale (ε = 2.2e-16, scale from
+// ForceElement::fd_scales()/StateScale(); the realised step (x + h) − x is used). The test suite
+// checks the whole matrix against a central-difference Jacobian of the residual.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 

@@ -21,7 +21,7 @@ fem::Vec6 Rates(const MarkerKinematics& i, const MarkerKinematics& j) {
   return d;
 }
 
-// Column of κ (ElementJacobian) for element dof k of d (position/angle) and of ḋ (rates).
+// Column of κ (kElementKinematicColumns) for element dof k of d (position/angle) and of ḋ (rates).
 constexpr int kDofColumn[6] = {0, 1, 4, 6, 7, 10};
 constexpr int kRateColumn[6] = {2, 3, 5, 8, 9, 11};
 
@@ -53,13 +53,13 @@ bool ReissnerBeamElement::Evaluate(double /*t*/, const MarkerKinematics& i,
 }
 
 bool ReissnerBeamElement::EvaluateJacobian(double /*t*/, const MarkerKinematics& i,
-                                           const MarkerKinematics& j, const double* /*memory*/,
-                                           ElementJacobian* jac) const {
+                                           const MarkerKinematics& j, const double* /*z*/,
+                                           const double* /*memory*/, Mat* jac,
+                                           Mat* /*d_states*/) const {
   const fem::Vec6 d = Dofs(i, j), dd = Rates(i, j);
   fem::Vec6 f, f_elastic;
   fem::Mat6 K, C, K_elastic;
   fem::CalcReissnerElement(stiffness_, length_, beta_, d, dd, &f, &K, &C);
-  jac->setZero();
   for (int c = 0; c < 6; ++c) {
     jac->block<6, 1>(0, kDofColumn[c]) = -K.col(c);
     jac->block<6, 1>(0, kRateColumn[c]) = -C.col(c);

@@ -34,7 +34,8 @@ class ReissnerBeamElement final : public ForceElement {
   bool Evaluate(double t, const MarkerKinematics& i, const MarkerKinematics& j, const double* z,
                 const double* memory, ElementOutput* out) const override;
   bool EvaluateJacobian(double t, const MarkerKinematics& i, const MarkerKinematics& j,
-                        const double* memory, ElementJacobian* jac) const override;
+                        const double* z, const double* memory, Mat* d_kinematics,
+                        Mat* d_states) const override;
   double PotentialEnergy(const MarkerKinematics& i, const MarkerKinematics& j, const double* z,
                          const double* memory) const override;
   /// The element length: positions of its nodes are resolved to rel_tol × L0, so that its

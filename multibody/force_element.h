@@ -49,10 +49,10 @@ struct FiniteDifferenceScales {
   double angular_speed{1e-3};  ///< [rad/s]
 };
 
-/// Derivatives of an element's outputs o = [F_i (2), M_i, F_j (2), M_j, dissipation] with
-/// respect to its kinematic inputs κ = [p_i (2), v_i (2), φ_i, ω_i, p_j (2), v_j (2), φ_j, ω_j]
-/// (the column order of the Jacobian's finite differences; units as in MarkerKinematics).
-using ElementJacobian = Eigen::Matrix<double, 7, 12>;
+/// Columns of an element's Jacobian with respect to its kinematic inputs: κ = [p_i (2), v_i (2),
+/// φ_i, ω_i, p_j (2), v_j (2), φ_j, ω_j] (units as in MarkerKinematics). Rows: the stacked
+/// outputs o = [F_i (2), M_i, F_j (2), M_j, dissipation, ż (num_states)].
+inline constexpr int kElementKinematicColumns = 12;
 
 /// A force element between markers i and j (either may be a ground marker).
 class ForceElement {
@@ -93,11 +93,14 @@ class ForceElement {
     return false;
   }
 
-  /// Analytic ∂o/∂κ (ElementJacobian) for an element without states. Return false (the
-  /// default) to have the Jacobian difference the element instead. Must not allocate or throw.
+  /// Analytic derivatives of the stacked outputs o (kElementKinematicColumns): ∂o/∂κ into
+  /// `d_kinematics` ((7 + num_states) × 12) and ∂o/∂z into `d_states` ((7 + num_states) ×
+  /// num_states); both arrive zeroed. Return false (the default) to have the Jacobian
+  /// difference the element instead. Must not allocate or throw.
   virtual bool EvaluateJacobian(double /*t*/, const MarkerKinematics& /*i*/,
-                                const MarkerKinematics& /*j*/, const double* /*memory*/,
-                                ElementJacobian* /*jac*/) const {
+                                const MarkerKinematics& /*j*/, const double* /*z*/,
+                                const double* /*memory*/, Mat* /*d_kinematics*/,
+                                Mat* /*d_states*/) const {
     return false;
   }
 

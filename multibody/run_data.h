@@ -79,10 +79,9 @@ struct ElementScratch {
   Vec zdot;           ///< ż (num_states)
   Vec z_fd;           ///< perturbed states
   Vec zdot_fd;
-  Vec o_plus, o_minus;       ///< stacked outputs [F_i, M_i, F_j, M_j, diss, ż] (7 + ns)
-  Mat Do;                    ///< ∂o/∂κ, κ = [r_i, ṙ_i, φ_i, ω_i, r_j, ṙ_j, φ_j, ω_j]
-  ElementJacobian analytic;  ///< ForceElement::EvaluateJacobian's ∂o/∂κ
-  Mat Dz;                    ///< ∂o/∂z
+  Vec o_plus, o_minus;  ///< stacked outputs [F_i, M_i, F_j, M_j, diss, ż] (7 + ns)
+  Mat Do;               ///< ∂o/∂κ, κ = [r_i, ṙ_i, φ_i, ω_i, r_j, ṙ_j, φ_j, ω_j]
+  Mat Dz;               ///< ∂o/∂z
   Mat Kp_i, Kv_i, Kp_j, Kv_j;  ///< ∂κ_m/∂p_b, ∂κ_m/∂v_b (6 × nb)
   Mat Gen_i, Gen_j;            ///< [Jr; Jφ] (3 × nb)
   Mat T;                       ///< scratch (7 + ns) × nb_max

@@ -357,9 +357,11 @@ TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
                 1e-9 * std::abs(p["value"].get<double>()))
         << name;
   }
-  // The resolved input holds SI values to 12 digits: the rerun agrees to about that.
+  // The resolved input holds SI values to 12 digits. The rerun is the same mechanism, but a
+  // 1e-12 change of a parameter can change the integrator's step decisions, so an impact peak
+  // agrees to the integration tolerance (sim.rel_tol = 1e-6; observed 3e-6), not to 12 digits.
   const double peak = sa["channels"]["slider_acceleration"]["peak_abs"].get<double>();
-  EXPECT_NEAR(sb["channels"]["slider_acceleration"]["peak_abs"].get<double>(), peak, 1e-6 * peak);
+  EXPECT_NEAR(sb["channels"]["slider_acceleration"]["peak_abs"].get<double>(), peak, 1e-5 * peak);
   fs::remove_all(first);
   fs::remove_all(again);
 }

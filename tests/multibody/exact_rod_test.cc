@@ -74,9 +74,9 @@ TEST(ExactRod, ElementJacobianIsTheDerivativeOfItsOutputs) {
       ki.velocity = Vec2(U(gen), U(gen));
       ki.angular_velocity = 30.0 * U(gen);
     }
-    ElementJacobian jac;
-    ASSERT_TRUE(el.EvaluateJacobian(0.0, k[0], k[1], nullptr, &jac));
-    ElementJacobian fd;
+    Mat jac = Mat::Zero(7, kElementKinematicColumns), none(7, 0);
+    ASSERT_TRUE(el.EvaluateJacobian(0.0, k[0], k[1], nullptr, nullptr, &jac, &none));
+    Mat fd(7, kElementKinematicColumns);
     for (int side = 0; side < 2; ++side) {
       for (int c = 0; c < 6; ++c) {
         const double h = c == 4 ? 1e-7 : (c == 0 || c == 1 ? 1e-9 : 1e-5);
