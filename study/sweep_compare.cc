@@ -4,10 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <random>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "common/error.h"
 #include "common/files.h"
@@ -99,6 +104,71 @@ std::string OrderText(const std::vector<ItemResult>& items, const std::vector<in
   std::string s;
   for (int i : order) s += (s.empty() ? "" : " > ") + items[static_cast<std::size_t>(i)].item.label;
   return s;
+}
+
+/// Draws of the bootstrap of PairedBootstrap, and its seed (fixed: a store always gives the same
+/// intervals).
+constexpr int kBootstrapDraws = 1000;
+constexpr std::uint64_t kBootstrapSeed = 20261127;
+
+/// |acceleration| of one item's turning points, grouped by the speed of their run.
+using BySpeed = std::map<double, std::vector<double>>;
+
+struct BootstrapResult {
+  std::vector<std::pair<double, double>> item_interval;  ///< per item: 2.5 / 97.5 % of its median
+  std::vector<std::pair<double, double>> gap_interval;   ///< per adjacent pair of the ranking
+};
+
+/// A bootstrap over the speeds, paired across the rods: each draw takes as many speeds as the
+/// comparison has, with replacement, and every rod's points at the drawn speeds; per draw the
+/// median of each rod and the difference of the medians of rods adjacent in `ranking`. The
+/// speeds are resampled, not the points, because a run's turning points are correlated and the
+/// speed moves every rod's accelerations alike: the pairing removes that common part.
+BootstrapResult PairedBootstrap(const std::vector<BySpeed>& items,
+                                const std::vector<int>& ranking) {
+  std::vector<double> speeds;
+  for (const BySpeed& item : items) {
+    for (const auto& [speed, values] : item) speeds.push_back(speed);
+  }
+  std::sort(speeds.begin(), speeds.end());
+  speeds.erase(std::unique(speeds.begin(), speeds.end()), speeds.end());
+  std::mt19937_64 gen(kBootstrapSeed);
+  std::uniform_int_distribution<std::size_t> pick(0, speeds.size() - 1);
+  std::vector<std::vector<double>> medians(items.size()), gaps(ranking.size() - 1);
+  std::vector<double> draw(speeds.size()), sample, med(items.size());
+  for (int d = 0; d < kBootstrapDraws; ++d) {
+    for (double& sp : draw) sp = speeds[pick(gen)];
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      sample.clear();
+      for (double sp : draw) {
+        const auto it = items[i].find(sp);
+        if (it != items[i].end()) sample.insert(sample.end(), it->second.begin(), it->second.end());
+      }
+      std::sort(sample.begin(), sample.end());
+      med[i] = sample.empty() ? kNaN : PercentileOfSorted(sample, 50.0);
+      if (!sample.empty()) medians[i].push_back(med[i]);
+    }
+    for (std::size_t k = 0; k + 1 < ranking.size(); ++k) {
+      const double gap =
+          med[static_cast<std::size_t>(ranking[k])] - med[static_cast<std::size_t>(ranking[k + 1])];
+      if (std::isfinite(gap)) gaps[k].push_back(gap);
+    }
+  }
+  auto interval = [](std::vector<double>& v) {
+    if (v.empty()) return std::pair{kNaN, kNaN};
+    std::sort(v.begin(), v.end());
+    return std::pair{PercentileOfSorted(v, 2.5), PercentileOfSorted(v, 97.5)};
+  };
+  BootstrapResult out;
+  for (auto& m : medians) out.item_interval.push_back(interval(m));
+  for (auto& g : gaps) out.gap_interval.push_back(interval(g));
+  return out;
+}
+
+std::string Format(const char* format, double a, double b, double c) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), format, a, b, c);
+  return buf;
 }
 
 std::vector<int> RankBy(const std::vector<ItemResult>& items, double ItemResult::*measure) {
@@ -197,10 +267,12 @@ std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& d
   for (const ComparisonDef& def : defs) {
     ComparisonResult res;
     res.def = def;
+    std::vector<BySpeed> by_speed_of_item;
     for (const ComparisonItem& item : def.items) {
       ItemResult ir;
       ir.item = item;
       std::vector<double> magnitudes;
+      BySpeed& by_speed = by_speed_of_item.emplace_back();
       for (std::size_t r = 0; r < runs.size(); ++r) {
         if (!Matches(item, facts[r])) continue;
         if (!runs[r].ok()) {
@@ -212,10 +284,11 @@ std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& d
         for (std::size_t k = 0; k < p.value.size(); ++k) {
           ir.points.push_back({runs[r].id, facts[r].speed, p.crank_angle[k], p.value[k]});
           magnitudes.push_back(std::abs(p.value[k]));
+          by_speed[facts[r].speed].push_back(std::abs(p.value[k]));
         }
       }
       if (magnitudes.empty()) {
-        ir.median = ir.p95 = ir.max = kNaN;
+        ir.median = ir.median_low = ir.median_high = ir.p95 = ir.max = kNaN;
       } else {
         std::sort(magnitudes.begin(), magnitudes.end());
         ir.median = PercentileOfSorted(magnitudes, 50.0);
@@ -233,9 +306,36 @@ std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& d
     res.evaluable = res.ranking.size() >= 2;
     res.trend_holds = res.evaluable && res.ranking == expected;
     res.trend_holds_p95 = res.evaluable && by_p95 == expected;
+    res.resolved = res.evaluable;
+    std::string overlap;
+    if (res.evaluable) {
+      const BootstrapResult boot = PairedBootstrap(by_speed_of_item, res.ranking);
+      for (std::size_t i = 0; i < res.items.size(); ++i) {
+        if (res.items[i].points.empty()) continue;
+        std::tie(res.items[i].median_low, res.items[i].median_high) = boot.item_interval[i];
+      }
+      for (std::size_t k = 0; k + 1 < res.ranking.size(); ++k) {
+        const ItemResult& hi = res.items[static_cast<std::size_t>(res.ranking[k])];
+        const ItemResult& lo = res.items[static_cast<std::size_t>(res.ranking[k + 1])];
+        const auto [gap_low, gap_high] = boot.gap_interval[k];
+        res.gap_low.push_back(gap_low);
+        if (!(gap_low > 0.0)) {
+          res.resolved = false;
+          overlap += std::string(overlap.empty() ? "" : "; ") + hi.item.label + " − " +
+                     lo.item.label +
+                     Format(" = %.3g [%.3g, %.3g]", hi.median - lo.median, gap_low, gap_high);
+        }
+      }
+    }
     std::string line = "Thesis trend: " + def.trend + ". Thesis: " + def.thesis_note + ". Model: ";
     if (!res.evaluable) {
       line += "not evaluable (fewer than two of its rods have turning points in this store).";
+    } else if (!res.resolved) {
+      line +=
+          "not resolved: the 95 % interval of the difference of medians (bootstrap over the "
+          "speeds) includes 0: " +
+          overlap + " m/s^2; the medians alone would say the trend " +
+          (res.trend_holds ? "holds." : "does not hold.");
     } else if (res.trend_holds) {
       line += std::string("holds") +
               (res.trend_holds_p95 ? " (median and 95th percentile)"
@@ -275,19 +375,22 @@ void WriteComparisonFiles(const ComparisonResult& res, const std::string& dir) {
         "speeds; "
         "rods ranked by the median of |acceleration| at those points.\n\n";
   md << res.verdict << "\n\n";
-  md << "| rank | rod | runs | failed | points | median \\|a\\| [m/s^2] | p95 \\|a\\| [m/s^2] | "
-        "max \\|a\\| [m/s^2] | "
-        "rank by p95 | rank by max |\n|---|---|---|---|---|---|---|---|---|---|\n";
-  csv << "rank,item,runs,failed,points,median [m/s^2],p95 [m/s^2],max [m/s^2],rank_p95,rank_max\n";
+  md << "| rank | rod | runs | failed | points | median \\|a\\| [m/s^2] | its 95 % interval "
+        "[m/s^2] | p95 \\|a\\| [m/s^2] | max \\|a\\| [m/s^2] | "
+        "rank by p95 | rank by max |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  csv << "rank,item,runs,failed,points,median [m/s^2],median_low [m/s^2],median_high [m/s^2],"
+         "p95 [m/s^2],max [m/s^2],rank_p95,rank_max\n";
   for (int i : rows) {
     const ItemResult& it = res.items[static_cast<std::size_t>(i)];
     const std::string rank = rank_of(res.ranking, i);
     md << "| " << rank << " | " << it.item.label << " | " << it.num_runs << " | " << it.num_failed
-       << " | " << it.points.size() << " | " << Num(it.median) << " | " << Num(it.p95) << " | "
-       << Num(it.max) << " | " << rank_of(by_p95, i) << " | " << rank_of(by_max, i) << " |\n";
+       << " | " << it.points.size() << " | " << Num(it.median) << " | " << Num(it.median_low)
+       << " – " << Num(it.median_high) << " | " << Num(it.p95) << " | " << Num(it.max) << " | "
+       << rank_of(by_p95, i) << " | " << rank_of(by_max, i) << " |\n";
     csv << rank << "," << CsvField(it.item.label) << "," << it.num_runs << "," << it.num_failed
-        << "," << it.points.size() << "," << Num(it.median) << "," << Num(it.p95) << ","
-        << Num(it.max) << "," << rank_of(by_p95, i) << "," << rank_of(by_max, i) << "\n";
+        << "," << it.points.size() << "," << Num(it.median) << "," << Num(it.median_low) << ","
+        << Num(it.median_high) << "," << Num(it.p95) << "," << Num(it.max) << ","
+        << rank_of(by_p95, i) << "," << rank_of(by_max, i) << "\n";
   }
   pts << "item,run_id,speed [rpm],crank_angle [deg],acceleration [m/s^2]\n";
   pts.precision(10);
@@ -311,20 +414,25 @@ void WriteComparisonIndex(const std::vector<ComparisonResult>& results, const st
         "|acceleration| "
         "at the turning points).\n\n| # | group | clearance | points | rods | model "
         "|\n|---|---|---|---|---|---|\n";
-  int holds = 0, evaluable = 0;
+  int holds = 0, evaluable = 0, resolved = 0;
   for (const ComparisonResult& r : results) {
     std::string rods;
     for (const ComparisonItem& i : r.def.items) rods += (rods.empty() ? "" : ", ") + i.label;
     const std::string model = !r.evaluable    ? "not evaluable"
+                              : !r.resolved   ? "not resolved"
                               : r.trend_holds ? "trend holds"
                                               : "trend does not hold";
     md << "| [" << r.def.number << "](comparison_" << Two(r.def.number) << ".md) | " << r.def.group
        << " | " << ClearanceText(r.def) << " | " << Direction(r.def) << " | " << rods << " | "
        << model << " |\n";
     evaluable += r.evaluable ? 1 : 0;
-    holds += r.trend_holds ? 1 : 0;
+    resolved += r.resolved ? 1 : 0;
+    holds += r.resolved && r.trend_holds ? 1 : 0;
   }
-  md << "\nThe trend holds in " << holds << " of " << evaluable << " evaluable comparisons.\n\n";
+  md << "\nThe trend holds in " << holds << " of " << resolved << " resolved comparisons; "
+     << evaluable - resolved << " of the " << evaluable
+     << " evaluable ones are not resolved (the 95 % interval of a difference of medians "
+        "includes 0: the runs cannot order those rods).\n\n";
   for (const ComparisonResult& r : results)
     md << "- **" << r.def.number << "**: " << r.verdict << "\n";
   WriteFileAtomic(dir + "/comparisons.md", md.str());

@@ -10,6 +10,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -54,8 +55,12 @@ struct ItemResult {
   int num_failed{0};  ///< failed runs matched (left out)
   std::vector<AgglomeratedPoint> points;
   double median{0.0};  ///< of |acceleration| [m/s^2]; NaN without points
-  double p95{0.0};     ///< type-7 95th percentile of |acceleration| [m/s^2]; NaN without points
-  double max{0.0};     ///< [m/s^2]; NaN without points
+  /// 95 % interval of the median [m/s^2] from the comparison's bootstrap over the speeds
+  /// (ComparisonResult::resolved); NaN without points or in a comparison that is not evaluable.
+  double median_low{std::numeric_limits<double>::quiet_NaN()};
+  double median_high{std::numeric_limits<double>::quiet_NaN()};
+  double p95{0.0};  ///< type-7 95th percentile of |acceleration| [m/s^2]; NaN without points
+  double max{0.0};  ///< [m/s^2]; NaN without points
 };
 
 struct ComparisonResult {
@@ -64,6 +69,13 @@ struct ComparisonResult {
   std::vector<int> ranking;  ///< item indices with points, by median descending
   bool evaluable{false};     ///< at least two items have points
   bool trend_holds{false};   ///< the median ranking equals the expected order (items with points)
+  /// For every two rods adjacent in the median ranking, the 95 % interval of the difference
+  /// of their medians excludes 0. The interval comes from a bootstrap over the speeds, paired
+  /// across the rods (1000 draws, fixed seed): each draw takes as many speeds as there are,
+  /// with replacement, and every rod's turning points at them. An unresolved comparison
+  /// decides nothing: the speeds' scatter is larger than the rods' difference.
+  bool resolved{false};
+  std::vector<double> gap_low;  ///< per adjacent pair of `ranking`: 2.5 % of the difference [m/s^2]
   bool trend_holds_p95{false};  ///< same with the 95th percentiles
   /// "Thesis trend: ... Model: holds (median and p95)." — one line for the report.
   std::string verdict;

@@ -1,7 +1,7 @@
 // Tests of study/sweep_compare.h: the 25 comparisons of the thesis (RIG.md §4, Tables 3–5)
 // as defined, the agglomeration of turning points by rod and clearance, the ranking statistics
-// (type-7 percentiles of |acceleration| on hand-computed values), the trend verdict, and the
-// table files.
+// (type-7 percentiles of |acceleration| on hand-computed values), the paired bootstrap over the
+// speeds and the resolution of an order, the trend verdict, and the table files.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "study/sweep_compare.h"
 
@@ -149,6 +149,48 @@ TEST(SweepCompare, GroupThreeSplitsAllRodsByClearanceAndAluminiumSpellingsMatch)
   EXPECT_EQ(RunComparisons({Def(1)}, runs)[0].items[0].num_runs, 1);  // "aluminum" is aluminium
 }
 
+// Eight speeds, one run per rod and speed, one turning point each; the speed raises both rods
+// alike (4 m/s^2 per step). A rod above the other by 1 m/s^2 at every speed is resolved: the
+// bootstrap over the speeds is paired, so the speeds' common scatter cancels. A rod that swings
+// +5 / -4 m/s^2 about the other from speed to speed is not, although its median is higher.
+TEST(SweepCompare, AnOrderWithinTheScatterOfTheSpeedsIsNotResolved) {
+  auto rods = [](auto offset) {
+    std::vector<StoredRun> runs;
+    for (int k = 0; k < 8; ++k) {
+      const std::string speed = std::to_string(100 + 10 * k) + " rpm";
+      runs.push_back(
+          RodRun(k, "steel", "12.7 mm", "0.5 mm", speed, {-(30.0 + 4.0 * k + offset(k))}));
+      runs.push_back(RodRun(8 + k, "steel", "19.05 mm", "0.5 mm", speed, {-(30.0 + 4.0 * k)}));
+    }
+    return RunComparisons({Def(3)}, runs)[0];
+  };
+  const ComparisonResult swinging = rods([](int k) { return k % 2 ? 5.0 : -4.0; });
+  EXPECT_TRUE(swinging.evaluable);
+  EXPECT_TRUE(swinging.trend_holds);  // medians 44.5 > 44
+  EXPECT_DOUBLE_EQ(swinging.items[0].median, 44.5);
+  EXPECT_FALSE(swinging.resolved);
+  EXPECT_LT(swinging.gap_low.at(0), 0.0);
+  EXPECT_NE(swinging.verdict.find("Model: not resolved"), std::string::npos) << swinging.verdict;
+  EXPECT_NE(swinging.verdict.find("the medians alone would say the trend holds"),
+            std::string::npos);
+  for (const ItemResult& it : {swinging.items[0], swinging.items[1]}) {
+    EXPECT_LE(it.median_low, it.median);
+    EXPECT_GE(it.median_high, it.median);
+    EXPECT_GE(it.median_low, 26.0);  // within the range of the values
+    EXPECT_LE(it.median_high, 63.0);
+    EXPECT_GT(it.median_high - it.median_low, 4.0);  // eight speeds do not pin a median
+  }
+  const ComparisonResult consistent = rods([](int) { return 1.0; });
+  EXPECT_TRUE(consistent.resolved);
+  EXPECT_TRUE(consistent.trend_holds);
+  EXPECT_NEAR(consistent.gap_low.at(0), 1.0, 1e-12);  // every draw: 1 m/s^2
+  EXPECT_NE(consistent.verdict.find("Model: holds"), std::string::npos) << consistent.verdict;
+  // The same store gives the same intervals (fixed seed).
+  const ComparisonResult again = rods([](int k) { return k % 2 ? 5.0 : -4.0; });
+  EXPECT_EQ(again.items[0].median_low, swinging.items[0].median_low);
+  EXPECT_EQ(again.gap_low, swinging.gap_low);
+}
+
 TEST(SweepCompare, FilesHoldTheRankingTheVerdictAndThePoints) {
   const fs::path dir =
       fs::temp_directory_path() / ("flexrod_sweep_compare_" + std::to_string(getpid()));
@@ -167,10 +209,12 @@ TEST(SweepCompare, FilesHoldTheRankingTheVerdictAndThePoints) {
   };
   const std::string md = read(dir / "comparison_03.md");
   EXPECT_NE(md.find(results[0].verdict), std::string::npos);
-  EXPECT_NE(md.find("| 1 | steel 12.7 mm | 1 | 0 | 2 | 40 | 49 | 50 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 1 | steel 12.7 mm | 1 | 0 | 2 | 40 | 40 – 40 | 49 | 50 |"),
+            std::string::npos)
+      << md;
   const std::string csv = read(dir / "comparison_03.csv");
-  EXPECT_NE(csv.find("1,steel 12.7 mm,1,0,2,40,49,50,1,1"), std::string::npos) << csv;
-  EXPECT_NE(csv.find("-,steel 25.4 mm,0,0,0,,,,-,-"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("1,steel 12.7 mm,1,0,2,40,40,40,49,50,1,1"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("-,steel 25.4 mm,0,0,0,,,,,,-,-"), std::string::npos) << csv;
   const std::string pts = read(dir / "comparison_03_points.csv");
   EXPECT_NE(pts.find("steel 12.7 mm,0,100,57.29577951,-30"), std::string::npos)
       << pts;  // 1 rad = 57.29577951 deg
