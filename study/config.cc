@@ -44,11 +44,15 @@ const ParamDef& Lookup(const std::string& key) {
   return *p;
 }
 
+void CheckRange(const ParamDef& p, double v) {
+  if (!p.range.Contains(v)) throw InputError(p.key, FormatValue(v), p.range.Rule());
+}
+
 /// Checks a text value against its definition; returns normalised text.
 void CheckValue(const ParamDef& p, const std::string& text) {
   switch (p.kind) {
     case ParamKind::kQuantity:
-      (void)ParseQuantity(p.key, text, p.dim);
+      CheckRange(p, ParseQuantity(p.key, text, p.dim));
       return;
     case ParamKind::kInteger: {
       const double v = ParseQuantity(p.key, text, Dimension::kDimensionless);
@@ -57,6 +61,7 @@ void CheckValue(const ParamDef& p, const std::string& text) {
       // any of their own limits, and keeps the conversion to int defined.
       if (std::abs(v) > 1e9)
         throw InputError(p.key, text, "must be an integer of at most 1e9 in magnitude");
+      CheckRange(p, v);
       return;
     }
     case ParamKind::kBool:
@@ -103,6 +108,20 @@ void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
 }
 
 }  // namespace
+
+bool ValueRange::Contains(double v) const {
+  const bool above = low_open ? v > low : v >= low;
+  const bool below = high_open ? v < high : v <= high;
+  return above && below;  // false for NaN
+}
+
+std::string ValueRange::Rule() const {
+  const std::string lo = FormatValue(low), hi = FormatValue(high);
+  if (std::isinf(high)) return "must be " + std::string(low_open ? "> " : ">= ") + lo;
+  if (std::isinf(low)) return "must be " + std::string(high_open ? "< " : "<= ") + hi;
+  return "must lie in " + std::string(low_open ? "(" : "[") + lo + ", " + hi +
+         (high_open ? ")" : "]");
+}
 
 std::vector<std::string> SplitList(const std::string& text) {
   std::vector<std::string> out;

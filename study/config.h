@@ -8,6 +8,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -17,6 +18,19 @@
 namespace flexrod {
 
 enum class ParamKind { kQuantity, kInteger, kChoice, kText, kBool };
+
+/// The admissible SI values of a quantity or integer key: checked whenever the key is set
+/// (file, --set, a sweep's [set] or axis), whether or not the run will read it. Unbounded by
+/// default; rules that involve other keys are checked by the builders that read them.
+struct ValueRange {
+  double low{-std::numeric_limits<double>::infinity()};
+  bool low_open{false};  ///< low itself excluded
+  double high{std::numeric_limits<double>::infinity()};
+  bool high_open{false};  ///< high itself excluded
+  bool Contains(double v) const;
+  /// "must be > 0", "must be >= 1", "must lie in (0, 1]".
+  std::string Rule() const;
+};
 
 struct ParamDef {
   ParamDef(std::string k, ParamKind kd, Dimension d, std::string def, std::string dc,
@@ -33,6 +47,7 @@ struct ParamDef {
   std::string default_text;          ///< as a user would type it ("19.05 mm")
   std::string doc;                   ///< one line, with the rule
   std::vector<std::string> choices;  ///< for kChoice
+  ValueRange range;                  ///< for kQuantity and kInteger
 };
 
 /// The schema: every key flexrod accepts, in documentation order.

@@ -1,13 +1,97 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The schema of every input key, with defaults and the reasoning behind assumed values.
+#include <algorithm>
+#include <limits>
+#include <utility>
+
+#include "common/error.h"
 #include "study/config.h"
 
 namespace flexrod {
 
+namespace {
+
+/// The keys whose admissible values are a plain interval (ValueRange), set on the schema.
+/// Rules that involve other keys (a clearance below the bush radius, a probe on the rod) stay
+/// with the builders.
+std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const ValueRange positive{0.0, true, inf, false}, non_negative{0.0, false, inf, false};
+  const std::pair<const char*, ValueRange> ranges[] = {
+      // > 0
+      {"rod.thickness", positive},
+      {"rod.height", positive},
+      {"rod.length", positive},
+      {"crank.length", positive},
+      {"crank.mass", positive},
+      {"slider.mass", positive},
+      {"slider.friction_velocity", positive},
+      {"joint.clearance", positive},
+      {"joint.bush_radius", positive},
+      {"joint.length", positive},
+      {"joint.friction", positive},
+      {"drive.speed", positive},
+      {"motor.stall_torque", positive},
+      {"motor.no_load_speed", positive},
+      {"motor.belt_ratio", positive},
+      {"sim.capture", positive},
+      {"sim.sample_rate", positive},
+      {"sim.rel_tol", positive},
+      {"sim.abs_tol", positive},
+      {"vtk.rate", positive},
+      // >= 0 (0 often = derive or none)
+      {"rod.E", non_negative},
+      {"rod.rho", non_negative},
+      {"rod.yield", non_negative},
+      {"reduction.modes", non_negative},
+      {"reduction.cutoff", non_negative},
+      {"rod.rigid_mass", non_negative},
+      {"rod.rigid_inertia", non_negative},
+      {"clamp.big_mass", non_negative},
+      {"clamp.big_inertia", non_negative},
+      {"clamp.small_mass", non_negative},
+      {"clamp.small_inertia", non_negative},
+      {"crank.inertia", non_negative},
+      {"slider.damping", non_negative},
+      {"slider.friction", non_negative},
+      {"joint.stiffness", non_negative},
+      {"joint.damping", non_negative},
+      {"joint.effective_mass", non_negative},
+      {"joint.working_penetration", non_negative},
+      {"joint.min_approach_velocity", non_negative},
+      {"motor.flywheel_inertia", non_negative},
+      {"damping.ratio", non_negative},
+      {"damping.alpha", non_negative},
+      {"damping.beta", non_negative},
+      {"sim.settle", non_negative},
+      {"sim.max_step", non_negative},
+      {"sim.max_steps", non_negative},
+      {"output.rate", non_negative},
+      {"output.midspan", non_negative},
+      {"vtk.scale", non_negative},
+      {"vtk.duration", non_negative},
+      {"modes.count", non_negative},
+      // others
+      {"rod.elements", {1.0, false, 1e5, false}},  // more elements than a beam model needs
+      {"sim.steady_revolutions", {2.0, false, inf, false}},
+      {"joint.restitution", {0.0, true, 1.0, false}},
+  };
+  for (const auto& [key, range] : ranges) {
+    auto it =
+        std::find_if(schema.begin(), schema.end(), [&](const ParamDef& p) { return p.key == key; });
+    FLEXROD_ASSERT(it != schema.end() &&
+                   (it->kind == ParamKind::kQuantity || it->kind == ParamKind::kInteger));
+    it->range = range;
+  }
+  return schema;
+}
+
+}  // namespace
+
 const std::vector<ParamDef>& Schema() {
   using D = Dimension;
   using K = ParamKind;
-  static const std::vector<ParamDef> schema = {
+  static const std::vector<ParamDef> schema = WithRanges({
       // ---- the rod (RIG.md §2, Table 1) ----
       {"rod.material",
        K::kChoice,
@@ -346,7 +430,7 @@ const std::vector<ParamDef>& Schema() {
        "Craig-Bampton interface: small-end, ends, or a comma-separated node list"},
       {"modes.count", K::kInteger, D::kDimensionless, "0",
        "modes reported; 0 = number of reduced coordinates (at least 10)"},
-  };
+  });
   return schema;
 }
 

@@ -340,17 +340,13 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
 
 void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
   const multibody::SimulationOptions opt = OptionsFromConfig(cfg);
-  const double settle = cfg.Quantity("sim.settle");
   const double capture = cfg.Quantity("sim.capture");
-  RequireNonNegative("sim.settle", settle);
-  RequirePositive("sim.capture", capture);
   if (!(capture * opt.sample_rate >= 2.0)) {
     throw InputError(
         "sim.capture", FormatValue(capture) + " s",
         "must hold at least 2 samples at sim.sample_rate = " + FormatValue(opt.sample_rate) +
             " Hz (>= " + FormatValue(2.0 / opt.sample_rate) + " s)");
   }
-  RequireNonNegative("sim.max_steps", cfg.Integer("sim.max_steps"));
   const std::string start = cfg.Text("sim.start");
   const int max_revolutions = cfg.Integer("sim.steady_revolutions");
   if (max_revolutions < 2) {

@@ -30,7 +30,6 @@ multibody::DampingSpec DampingFromConfig(const Config& cfg) {
     d = multibody::DampingSpec::FrequencyBand();
   } else if (type == "ratio") {
     const double zeta = cfg.Quantity("damping.ratio");
-    RequireNonNegative("damping.ratio", zeta);
     d = zeta > 0.0 ? multibody::DampingSpec::ModalRatio({zeta}) : multibody::DampingSpec::None();
   } else {
     d = multibody::DampingSpec::Rayleigh(cfg.Quantity("damping.alpha"),
@@ -71,10 +70,6 @@ static fem::RodSpec RodWithClamps(const Config& cfg, bool small_clamp) {
   fem::RodSpec rod = RodFromConfig(cfg);
   const double big_mass = cfg.Quantity("clamp.big_mass");
   const double small_mass = cfg.Quantity("clamp.small_mass");
-  RequireNonNegative("clamp.big_mass", big_mass);
-  RequireNonNegative("clamp.small_mass", small_mass);
-  RequireNonNegative("clamp.big_inertia", cfg.Quantity("clamp.big_inertia"));
-  RequireNonNegative("clamp.small_inertia", cfg.Quantity("clamp.small_inertia"));
   if (big_mass > 0.0 || cfg.Quantity("clamp.big_inertia") > 0.0) {
     rod.attachments.push_back(
         {"big-end clamp", 0, big_mass, cfg.Quantity("clamp.big_inertia"), Vec2::Zero()});
@@ -111,7 +106,6 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   if (flexible && !rod) rod = BuildReducedRod(cfg);
   out.rod = rod;
   const double length = cfg.Quantity("rod.length");
-  RequirePositive("rod.length", length);
   const Vec2 big_offset(cfg.Quantity("rod.big_end_x"), cfg.Quantity("rod.big_end_y"));
   const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
   const bool exact = cfg.Text("rod.type") == "exact";
@@ -198,12 +192,9 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
 
   // ---- crank ----
   const double r = cfg.Quantity("crank.length");
-  RequirePositive("crank.length", r);
   out.crank_length = r;
   const double crank_mass = cfg.Quantity("crank.mass");
   const double crank_inertia = cfg.Quantity("crank.inertia");
-  RequirePositive("crank.mass", crank_mass);
-  RequireNonNegative("crank.inertia", crank_inertia);
   out.crank = b.AddRigidBody({"crank", crank_mass, crank_inertia, Vec2::Zero()});
   const MarkerId origin = b.AddGroundMarker("ground-axis", Vec2::Zero());
   const MarkerId crank_axis = b.AddBodyMarker(out.crank, "crank-axis", Vec2::Zero());
@@ -213,7 +204,6 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
 
   // ---- slider on its guide ----
   const double slider_mass = cfg.Quantity("slider.mass");
-  RequirePositive("slider.mass", slider_mass);
   const double e = cfg.Quantity("slider.offset");
   if (!(out.effective_length > r + std::abs(e))) {
     throw InputError("rod.length", FormatValue(length),
@@ -231,10 +221,7 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   ps.axis = Vec2(1.0, 0.0);
   ps.damping = cfg.Quantity("slider.damping");
   ps.friction_force = cfg.Quantity("slider.friction");
-  RequireNonNegative("slider.damping", ps.damping);
-  RequireNonNegative("slider.friction", ps.friction_force);
   ps.friction_regularisation_speed = cfg.Quantity("slider.friction_velocity");
-  RequirePositive("slider.friction_velocity", ps.friction_regularisation_speed);
   out.guide_joint = b.AddPrismatic(ps);
 
   if (ideal_joint || cfg.Text("joint.type") == "ideal") {
@@ -254,7 +241,6 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   const std::string drive = cfg.Text("drive.type");
   if (drive == "constant") {
     const double w = cfg.Quantity("drive.speed");
-    RequirePositive("drive.speed", w);
     out.driver = b.AddConstantSpeedDriver("drive", out.crank, theta0, w);
   } else if (drive == "profile") {
     std::vector<double> times, speeds;
@@ -273,12 +259,8 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
     multibody::DcMotorSpec m;
     const double rated_stall = cfg.Quantity("motor.stall_torque");
     const double rated_no_load = cfg.Quantity("motor.no_load_speed");
-    RequirePositive("motor.stall_torque", rated_stall);
-    RequirePositive("motor.no_load_speed", rated_no_load);
     m.ratio = cfg.Quantity("motor.belt_ratio");
-    RequirePositive("motor.belt_ratio", m.ratio);
     const double w = cfg.Quantity("drive.speed");
-    RequirePositive("drive.speed", w);
     const double voltage_fraction = m.ratio * w / rated_no_load;
     if (voltage_fraction > 1.0 + 1e-12) {
       throw InputError(
