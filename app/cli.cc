@@ -8,6 +8,24 @@
 #include "common/error.h"
 
 namespace flexrod::app {
+namespace {
+
+/// A flag given with an empty value (`--out ""`) is an input error, not the flag left out: the
+/// commands take an empty string as "not given", so it would silently write elsewhere.
+void RefuseEmptyValues(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* o : sub->get_options()) {
+      if (o->get_lnames().empty() || o->count() == 0 || o->get_type_size() == 0) continue;
+      for (const std::string& value : o->results()) {
+        if (value.empty())
+          throw InputError("--" + o->get_lnames().front(), "", "must not be empty");
+      }
+    }
+    RefuseEmptyValues(*sub);
+  }
+}
+
+}  // namespace
 
 int Main(int argc, char** argv) {
   CLI::App app{
@@ -28,6 +46,7 @@ int Main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
+    RefuseEmptyValues(app);
     return handler ? handler() : 2;
   } catch (const InputError& e) {
     std::cerr << "flexrod: error: " << e.what() << "\n";

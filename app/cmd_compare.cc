@@ -18,7 +18,8 @@ namespace {
 struct CompareOptions {
   std::string store;
   std::string group;
-  int comparison{0};
+  int comparison{0};  ///< 0 = all (when --comparison is not given)
+  bool comparison_given{false};
   std::string out{"out/compare"};
   bool no_plot{false};
 };
@@ -28,7 +29,7 @@ int Compare(const CompareOptions& opt) {
     throw InputError("--group", opt.group, "must be I, II or III");
   }
   const auto& all = study::ThesisComparisons();
-  if (opt.comparison != 0 &&
+  if (opt.comparison_given &&
       (opt.comparison < 1 || opt.comparison > static_cast<int>(all.size()))) {
     throw InputError("--comparison", std::to_string(opt.comparison),
                      "must be 1 to " + std::to_string(all.size()));
@@ -68,10 +69,14 @@ void RegisterCompare(CLI::App& app, Handler* handler) {
                                      "store: rankings, tables, scatter plots");
   cmd->add_option("store", opt->store, "sweep store FILE.h5 (flexrod sweep)")->required();
   cmd->add_option("--group", opt->group, "only group I, II or III");
-  cmd->add_option("--comparison", opt->comparison, "only comparison N (1-25)");
+  CLI::Option* comparison =
+      cmd->add_option("--comparison", opt->comparison, "only comparison N (1-25)");
   cmd->add_option("--out", opt->out, "output directory")->capture_default_str();
   cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plots");
-  cmd->callback([opt, handler] { *handler = [opt] { return Compare(*opt); }; });
+  cmd->callback([opt, handler, comparison] {
+    opt->comparison_given = comparison->count() > 0;
+    *handler = [opt] { return Compare(*opt); };
+  });
 }
 
 }  // namespace flexrod::app

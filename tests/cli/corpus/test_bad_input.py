@@ -342,8 +342,7 @@ RUN = [
       extra=["--vtk", "{tmp}/plain/vtk"]),
     R("vtk-is-file", [], ["--vtk", "{tmp}/plain"], input="rigid-rig",
       extra=["--vtk", "{tmp}/plain"]),
-    R("vtk-empty", [], ["--vtk", '""'], input="rigid-rig", extra=["--vtk", ""],
-      xfail="accepted, exit 0 and a run written: an empty --vtk is taken as no --vtk"),
+    R("vtk-empty", [], ["--vtk", '""'], input="rigid-rig", extra=["--vtk", ""]),
     R("vtk-missing-value", [], ["--vtk"], input="rigid-rig", extra=["--no-plot", "--vtk"],
       out=False),
     # the input: presets and files
@@ -483,11 +482,11 @@ MODES = [
     M("height-negative", ["--height", "-3mm"], ["rod.height", "-0.003"]),
     M("height-zero", ["--height", "0"], ["rod.height = 0"]),
     M("height-in-rpm", ["--height", "3 rpm"], ["rod.height", '"3 rpm"']),
-    M("height-empty", ["--height", ""], ['rod.height = ""']),
+    M("height-empty", ["--height", ""], ['--height = ""', "must not be empty"]),
     M("height-missing-value", ["--height"], ["--height"], json=False),
     M("height-twice", ["--height", "1mm", "--height", "2mm"], ["--height"]),
     M("material-unknown", ["--material", "unobtainium"], ["rod.material", "unobtainium"]),
-    M("material-empty", ["--material", ""], ['rod.material = ""']),
+    M("material-empty", ["--material", ""], ['--material = ""', "must not be empty"]),
     M("modes-negative", ["--modes", "-1"], ["reduction.modes", "-1"]),
     M("modes-too-many", ["--modes", "5000"], ["reduction.modes", "5000"]),
     M("modes-fraction", ["--modes", "2.5"], ["reduction.modes", "2.5"]),
@@ -539,8 +538,7 @@ MODES = [
       ["--json", "{tmp}/nodir/m.json"], json=False),
     M("json-in-proc", ["--json", "/proc/flexrod-corpus/m.json"],
       ["--json", "/proc/flexrod-corpus/m.json"], json=False),
-    M("json-empty", ["--json", ""], ["--json", '""'], json=False,
-      xfail="accepted, exit 0: an empty --json is taken as no --json, nothing written"),
+    M("json-empty", ["--json", ""], ["--json", '""'], json=False),
 ]
 
 # --------------------------------------------------------------------------------------------
@@ -633,10 +631,8 @@ CONTACT = [
     C("plot-under-file-json-written",
       ["--law", "hertz"] + B + ["--json", "{tmp}/c.json", "--plot", "{tmp}/plain/c.png"],
       ["--plot", "{tmp}/plain/c.png"], out=False),
-    C("json-empty", ["--law", "hertz"] + B + ["--json", ""], ["--json", '""'], out=False,
-      xfail="accepted, exit 0: an empty --json is taken as no --json"),
-    C("plot-empty", ["--law", "hertz"] + B + ["--plot", ""], ["--plot", '""'], out=False,
-      xfail="accepted, exit 0: an empty --plot is taken as no --plot"),
+    C("json-empty", ["--law", "hertz"] + B + ["--json", ""], ["--json", '""'], out=False),
+    C("plot-empty", ["--law", "hertz"] + B + ["--plot", ""], ["--plot", '""'], out=False),
 ]
 
 # --------------------------------------------------------------------------------------------
@@ -869,9 +865,7 @@ SWEEP = [
       extra=["--out", "{tmp}/foreign.h5"], out=False, files={"foreign.h5": "garbage\n"}),
     W("out-in-proc", SMALL, ["--out", "/proc/flexrod-corpus.h5"],
       extra=["--out", "/proc/flexrod-corpus.h5"], out=False),
-    W("out-empty", SMALL, ["--out", '""'], extra=SHORT + ["--out", ""], out=False,
-      xfail="accepted, exit 0: an empty --out is taken as the default, and the 4 runs are "
-            "written to out/small.h5 in the working directory"),
+    W("out-empty", SMALL, ["--out", '""'], extra=SHORT + ["--out", ""], out=False),
     W("set-unknown-key", SMALL, ["rod.colour", "red"], extra=["--set", "rod.colour=red"]),
     W("set-without-equals", SMALL, ["--set", "rod.height"], extra=["--set", "rod.height"]),
     W("set-store-unknown", SMALL, ["store.colour", "red"], extra=["--set", "store.colour=red"]),
@@ -906,15 +900,11 @@ WITH_STORE = {"store.h5": STORE}
 COMPARE = [
     K("group-iv", STORE_ARG, ["--group", "IV"], ["--group", "IV"], files=WITH_STORE),
     K("group-lower-case", STORE_ARG, ["--group", "i"], ["--group = i"], files=WITH_STORE),
-    K("group-empty", STORE_ARG, ["--group", ""], ['--group = ""'], files=WITH_STORE,
-      xfail="accepted, exit 0 and all 25 comparisons written: an empty --group is taken as "
-            "no --group"),
+    K("group-empty", STORE_ARG, ["--group", ""], ['--group = ""'], files=WITH_STORE),
     K("comparison-26", STORE_ARG, ["--comparison", "26"], ["--comparison", "26"],
       files=WITH_STORE),
     K("comparison-zero", STORE_ARG, ["--comparison", "0"], ["--comparison = 0"],
-      files=WITH_STORE,
-      xfail="accepted, exit 0 and all 25 comparisons written: --comparison 0 is taken as no "
-            "--comparison (the rule is 1 to 25)"),
+      files=WITH_STORE),
     K("comparison-negative", STORE_ARG, ["--comparison", "-1"], ["--comparison", "-1"],
       files=WITH_STORE),
     K("comparison-abc", STORE_ARG, ["--comparison", "abc"], ["--comparison", "abc"],
