@@ -76,12 +76,13 @@ std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
       {"sim.steady_revolutions", {2.0, false, inf, false}},
       {"joint.restitution", {0.0, true, 1.0, false}},
   };
-  for (const auto& [key, range] : ranges) {
+  for (const auto& entry : ranges) {  // not a structured binding: clang 14 cannot capture one
+    const std::string key = entry.first;
     auto it =
         std::find_if(schema.begin(), schema.end(), [&](const ParamDef& p) { return p.key == key; });
     FLEXROD_ASSERT(it != schema.end() &&
                    (it->kind == ParamKind::kQuantity || it->kind == ParamKind::kInteger));
-    it->range = range;
+    it->range = entry.second;
   }
   return schema;
 }
