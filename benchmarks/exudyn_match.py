@@ -16,6 +16,7 @@ Exudyn's CPU times are the ones the input file's header quotes (Exudyn 1.11, fix
 generalised-alpha, 10 Craig-Bampton modes of a 2565-dof solid rod, one core): ideal joint
 7.4 s (h = 1e-4 s), clearance 95 s (h = 1e-5 s), 3 s simulated each.
 """
+import argparse
 import json
 import os
 import resource
@@ -62,23 +63,14 @@ def describe(name, s):
 
 
 def main(argv):
-    rounds = 3
-    binary = os.path.join(HERE, "..", "build", "flexrod")
-    toml = os.path.join(HERE, "exudyn-match.toml")  # a copy of ../shared/bench/exudyn-match.toml
-    extra = []
-    i = 1
-    while i < len(argv):
-        if argv[i] == "--rounds":
-            rounds, i = int(argv[i + 1]), i + 2
-        elif argv[i] == "--binary":
-            binary, i = argv[i + 1], i + 2
-        elif argv[i] == "--input":
-            toml, i = argv[i + 1], i + 2
-        elif argv[i] == "--":
-            extra, i = argv[i + 1:], len(argv)
-        else:
-            print(__doc__, file=sys.stderr)
-            return 2
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--rounds", type=int, default=3)
+    p.add_argument("--binary", default=os.path.join(HERE, "..", "build", "flexrod"))
+    # a copy of ../shared/bench/exudyn-match.toml
+    p.add_argument("--input", default=os.path.join(HERE, "exudyn-match.toml"))
+    p.add_argument("extra", nargs="*", help="further flexrod run arguments, after --")
+    args = p.parse_args(argv)
+    rounds, binary, toml, extra = args.rounds, args.binary, args.input, args.extra
     if rounds < 1 or not os.path.isfile(toml):
         print(__doc__, file=sys.stderr)
         return 2
@@ -107,4 +99,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main(sys.argv[1:]))

@@ -10,6 +10,7 @@ as the minimum over the rounds: the process wall time, the solver wall time (the
 ideal twin's integrator wall, from summary.json), their ratio, the time the files took (the
 report's "files:" line), and the bytes written. Timing only: never a test.
 """
+import argparse
 import json
 import os
 import re
@@ -21,18 +22,13 @@ import time
 
 
 def main(argv):
-    rounds, binary, extra = 5, os.path.join(os.path.dirname(__file__), "..", "build", "flexrod"), []
-    i = 1
-    while i < len(argv):
-        if argv[i] == "--rounds":
-            rounds, i = int(argv[i + 1]), i + 2
-        elif argv[i] == "--binary":
-            binary, i = argv[i + 1], i + 2
-        elif argv[i] == "--":
-            extra, i = argv[i + 1:], len(argv)
-        else:
-            print(__doc__, file=sys.stderr)
-            return 2
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--rounds", type=int, default=5)
+    p.add_argument("--binary", default=os.path.join(os.path.dirname(__file__), "..", "build",
+                                                    "flexrod"))
+    p.add_argument("extra", nargs="*", help="flexrod run arguments, after --")
+    args = p.parse_args(argv)
+    rounds, binary, extra = args.rounds, args.binary, args.extra
     rows = []
     for r in range(rounds):
         out = tempfile.mkdtemp(prefix="flexrod_bench_run_")
@@ -61,4 +57,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main(sys.argv[1:]))

@@ -289,6 +289,11 @@ bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush
   enum : int { kPB = 0, kVB = 2, kWB = 5, kPP = 6, kVP = 8, kWP = 11 };
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
   const LawValues v = EvaluateLaws(k, z, memory);
+  // Open: every output is zero, and so every derivative (both matrices arrive zeroed), except
+  // for the standard linear solid, whose arm relaxes (and dissipates) while the joint is open.
+  if (!v.in_contact && !std::holds_alternative<contact::StandardLinearSolidLaw>(normal_law_)) {
+    return true;
+  }
   Mat& D = *d_kinematics;
   Mat& Dz = *d_states;
   const Vec2 n = k.normal, tg = k.tangent;

@@ -2,6 +2,8 @@
 // The schema of every input key, with defaults and the reasoning behind assumed values.
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "common/error.h"
@@ -80,8 +82,10 @@ std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
     const std::string key = entry.first;
     auto it =
         std::find_if(schema.begin(), schema.end(), [&](const ParamDef& p) { return p.key == key; });
-    FLEXROD_ASSERT(it != schema.end() &&
-                   (it->kind == ParamKind::kQuantity || it->kind == ParamKind::kInteger));
+    if (it == schema.end() ||
+        (it->kind != ParamKind::kQuantity && it->kind != ParamKind::kInteger)) {
+      throw std::logic_error("schema range for '" + key + "': no such numeric key");
+    }
     it->range = entry.second;
   }
   return schema;
