@@ -11,18 +11,39 @@ namespace flexrod::app {
 namespace {
 
 /// A flag given with an empty value (`--out ""`) is an input error, not the flag left out: the
-/// commands take an empty string as "not given", so it would silently write elsewhere.
-void RefuseEmptyValues(const CLI::App& app) {
+/// commands take an empty string as "not given", so it would silently write elsewhere. A value
+/// that is itself a flag (`--out --no-plot`) is the value forgotten: taken as given, it named a
+/// directory `--no-plot`.
+void CheckOptionValues(const CLI::App& app) {
   for (const CLI::App* sub : app.get_subcommands()) {
     for (const CLI::Option* o : sub->get_options()) {
       if (o->get_lnames().empty() || o->count() == 0 || o->get_type_size() == 0) continue;
+      const std::string flag = "--" + o->get_lnames().front();
       for (const std::string& value : o->results()) {
-        if (value.empty())
-          throw InputError("--" + o->get_lnames().front(), "", "must not be empty");
+        if (value.empty()) throw InputError(flag, "", "must not be empty");
+        if (value.rfind("--", 0) == 0)
+          throw InputError(flag, value, "is a flag, not a value: give " + flag + " its value");
       }
     }
-    RefuseEmptyValues(*sub);
+    CheckOptionValues(*sub);
   }
+}
+
+/// CLI11 answers `flexrod runn` and `flexrod --frobnicate` with only "A subcommand is required";
+/// the first argument is checked here so that the message names it.
+void CheckCommand(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return;
+  const std::string first = argv[1];
+  if (first == "-h" || first == "--help") return;
+  std::string names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (sub->get_name() == first) return;
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+  }
+  throw InputError(
+      "command", first,
+      (first.rfind('-', 0) == 0 ? "is a flag, but the command comes first" : "unknown command") +
+          std::string("; flexrod COMMAND [options], COMMAND one of ") + names);
 }
 
 }  // namespace
@@ -40,13 +61,17 @@ int Main(int argc, char** argv) {
   RegisterSweep(app, &handler);
   RegisterCompare(app, &handler);
   try {
+    CheckCommand(app, argc, argv);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const InputError& e) {
+    std::cerr << "flexrod: error: " << e.what() << "\n";
+    return 2;
   }
   try {
-    RefuseEmptyValues(app);
+    CheckOptionValues(app);
     return handler ? handler() : 2;
   } catch (const InputError& e) {
     std::cerr << "flexrod: error: " << e.what() << "\n";

@@ -28,6 +28,7 @@ namespace {
 struct StudyOptions {
   std::string name;
   std::string input{"flexible-rig"};  ///< reduction: the case (preset or TOML file)
+  bool input_given{false};            ///< the input positional was given
   std::string out_dir{"out/study"};
   std::vector<std::string> sets;
   bool no_plot{false};
@@ -126,7 +127,8 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
 // ---- the modal reduction study (variants and figures: study/reduction_study.h) ------------
 
 int RunReductionStudy(const StudyOptions& opt) {
-  Require(opt.within > 0.0, "--within", opt.within, "must be > 0 [%]");
+  Require(opt.within > 0.0 && std::isfinite(opt.within), "--within", opt.within,
+          "must be a finite percentage > 0 [%]");
   Config base;
   if (const Preset* preset = FindPreset(opt.input)) {
     base.LoadToml(preset->toml, opt.input);
@@ -211,6 +213,11 @@ int RunStudy(const StudyOptions& opt) {
     std::string tag;
     std::vector<std::string> row, sets;
   };
+  if (opt.input_given) {
+    throw InputError("input", opt.input,
+                     "only the reduction study takes an input; the rigid-rig studies run the "
+                     "rigid-rig preset (change it with --set)");
+  }
   std::vector<Case> cases;
   std::string title;
   std::vector<std::string> header;
@@ -272,9 +279,17 @@ void RegisterStudy(CLI::App& app, Handler* handler) {
       "study", "the rigid-rig studies of the thesis (chapter 3) and the modal reduction study");
   cmd->add_option("name", opt->name, "rigid-rig-laws | rigid-rig-friction | reduction")
       ->required()
-      ->check(CLI::IsMember({"rigid-rig-laws", "rigid-rig-friction", "reduction"}));
+      ->check(CLI::Validator(
+          [](std::string& name) {  // CLI11's IsMember leaves an empty name unquoted
+            for (const char* known : {"rigid-rig-laws", "rigid-rig-friction", "reduction"}) {
+              if (name == known) return std::string();
+            }
+            return "\"" + name + "\" not in {rigid-rig-laws, rigid-rig-friction, reduction}";
+          },
+          "rigid-rig-laws|rigid-rig-friction|reduction"));
   cmd->add_option("input", opt->input, "reduction: the case, a preset or a TOML file")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->each([opt](const std::string&) { opt->input_given = true; });
   cmd->add_option("--within", opt->within,
                   "reduction: the agreement with the exact rod asked of a Craig-Bampton basis [%]")
       ->capture_default_str();

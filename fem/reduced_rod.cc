@@ -457,7 +457,9 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
       const int rigid_expected = fixed.empty() ? (dpn == 3 ? 3 : 6) : 0;
       const int want = spec.cutoff_hz > 0.0 ? 0 : spec.num_modes + rigid_expected;
       Require(spec.cutoff_hz > 0.0 || want <= nfree, "reduction.modes", spec.num_modes,
-              "more modes than free dofs (" + std::to_string(nfree - rigid_expected) + ")");
+              "more modes than the " + std::to_string(nfree - rigid_expected) +
+                  " free dofs of the rod's mesh (rod.elements = " +
+                  std::to_string(rod.num_elements) + ")");
       EigenResult er;
       if (spec.cutoff_hz > 0.0) {
         er = LowestModes(Kf, Mf, 0, spec.cutoff_hz);
@@ -490,7 +492,9 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
       const int nb = static_cast<int>(boundary.size());
       const int ni = static_cast<int>(interior.size());
       Require(spec.cutoff_hz > 0.0 || spec.num_modes <= ni, "reduction.modes", spec.num_modes,
-              "more modes than interior dofs (" + std::to_string(ni) + ")");
+              "more modes than the " + std::to_string(ni) +
+                  " interior dofs of the rod's mesh (rod.elements = " +
+                  std::to_string(rod.num_elements) + ")");
       const SpMat Kii = SubMatrix(A.K, interior, interior);
       const SpMat Mii = SubMatrix(A.M, interior, interior);
       const SpMat Kib = SubMatrix(A.K, interior, boundary);

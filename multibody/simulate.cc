@@ -537,6 +537,8 @@ const char* ToString(SimulationOutcome outcome) {
       return "integrator-failure";
     case SimulationOutcome::kStepLimit:
       return "step-limit";
+    case SimulationOutcome::kWallTimeLimit:
+      return "wall-time-limit";
     case SimulationOutcome::kInitialConditionFailure:
       return "initial-condition-failure";
     case SimulationOutcome::kInterrupted:
@@ -836,6 +838,13 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
                      "step budget of " + std::to_string(options.max_steps) + " steps exhausted",
                      "increase the step budget (sim.max_steps), loosen tolerances or check for "
                      "chattering events",
+                     t_now);
+        break;
+      }
+      if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) {
+        fill_failure(SimulationOutcome::kWallTimeLimit, "wall-clock budget exhausted",
+                     "increase the wall-clock budget (sim.max_wall_time), loosen tolerances or "
+                     "shorten the simulated time",
                      t_now);
         break;
       }

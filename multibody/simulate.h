@@ -9,6 +9,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
@@ -135,6 +136,9 @@ struct SimulationOptions {
   std::optional<IndexEventSpec> index_event;
   IntegratorOptions integrator;
   long max_steps{0};  ///< integrator steps allowed for the run; 0 = unlimited
+  /// Wall-clock time by which the run must end (checked after every step); none = unlimited.
+  /// A deadline, not a duration, so that a run of several integrations shares one budget.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
   /// Absolute tolerance of the velocities v = abs_tol · velocity_tol_scale [1/s], >= 0;
   /// 0 (default) = AutoVelocityTolScale(model). See kElasticJointVelocityTolScale.
   double velocity_tol_scale{0.0};
@@ -235,6 +239,7 @@ enum class SimulationOutcome {
   kCompleted,
   kIntegratorFailure,        ///< IDA gave up (status has time, state, hint)
   kStepLimit,                ///< options.max_steps reached
+  kWallTimeLimit,            ///< options.deadline passed
   kInitialConditionFailure,  ///< no consistent initial state
   kInterrupted,              ///< SimulationOptions::stop was set (not a numerical failure)
 };

@@ -28,7 +28,8 @@ std::string Join(const std::vector<std::string>& v) {
   return s;
 }
 
-const ParamDef& Lookup(const std::string& key) {
+/// `value` is the text the user gave, for the message (none when the code asks for a key).
+const ParamDef& Lookup(const std::string& key, const std::string& value = "(any)") {
   const ParamDef* p = FindParam(key);
   if (!p) {
     // Suggest keys sharing the section for the message.
@@ -38,7 +39,7 @@ const ParamDef& Lookup(const std::string& key) {
       if (q.key.rfind(section + ".", 0) == 0) near.push_back(q.key);
     }
     throw InputError(
-        key, "(any)",
+        key, value,
         near.empty() ? "unknown key" : "unknown key; known in this section: " + Join(near));
   }
   return *p;
@@ -77,6 +78,13 @@ void CheckValue(const ParamDef& p, const std::string& text) {
   }
 }
 
+/// The value as the TOML file wrote it, for messages.
+std::string TomlText(const toml::node& node) {
+  std::ostringstream os;
+  node.visit([&os](const auto& n) { os << n; });
+  return os.str();
+}
+
 std::string NodeText(const toml::node& node, const std::string& key) {
   if (auto s = node.as_string()) return s->get();
   if (auto i = node.as_integer()) return std::to_string(i->get());
@@ -88,11 +96,16 @@ std::string NodeText(const toml::node& node, const std::string& key) {
   }
   if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
   if (auto a = node.as_array()) {
+    // Only the comma-list keys (text) take an array; for any other key a one-element array
+    // would otherwise pass as its scalar.
+    const ParamDef* p = FindParam(key);
+    if (p && p->kind != ParamKind::kText)
+      throw InputError(key, TomlText(node), "must be a single value, not an array");
     std::string s;
     for (size_t i = 0; i < a->size(); ++i) s += (i ? "," : "") + NodeText(*a->get(i), key);
     return s;
   }
-  throw InputError(key, "(table or date)", "must be a number, string, boolean or array");
+  throw InputError(key, TomlText(node), "must be a number, string, boolean or array");
 }
 
 void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
@@ -152,16 +165,38 @@ std::vector<std::string> SplitUserList(const std::string& key, const std::string
   return out;
 }
 
+std::string MalformedTomlRule(const std::string& description, const std::string& toml_text,
+                              std::size_t line, std::size_t column) {
+  std::string what = description;
+  const std::size_t open = what.find('\''), close = what.rfind('\'');
+  if (what.find("cannot redefine existing") != std::string::npos && open < close) {
+    std::istringstream in(toml_text);
+    std::string source;
+    for (std::size_t i = 0; i < line && std::getline(in, source);) ++i;
+    std::string key = source.substr(0, source.find('='));
+    key.erase(std::remove(key.begin(), key.end(), '['), key.end());
+    key.erase(std::remove(key.begin(), key.end(), ']'), key.end());
+    const std::size_t b = key.find_first_not_of(" \t");
+    if (b != std::string::npos)
+      what = what.substr(0, open + 1) + key.substr(b, key.find_last_not_of(" \t") - b + 1) +
+             what.substr(close);
+  }
+  return "malformed TOML: " + what + " at line " + std::to_string(line) + ", column " +
+         std::to_string(column);
+}
+
 void Config::Set(const std::string& key, const std::string& text) {
-  const ParamDef& p = Lookup(key);
+  const ParamDef& p = Lookup(key, text);
   CheckValue(p, text);
   values_[key] = text;
 }
 
 void Config::SetAssignment(const std::string& assignment) {
   const size_t eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0) {
-    throw InputError("--set", assignment, "must have the form key=value");
+  if (eq == std::string::npos || assignment.find_first_not_of(" \t") >= eq) {
+    throw InputError(
+        "--set", "\"" + assignment + "\"",
+        "must have the form key=value; the key \"" + assignment.substr(0, eq) + "\" is blank");
   }
   std::string value = assignment.substr(eq + 1);
   if (value.size() >= 2 && value.front() == '"' && value.back() == '"')
@@ -174,10 +209,9 @@ void Config::LoadToml(const std::string& toml_text, const std::string& origin) {
   try {
     t = toml::parse(toml_text, origin);
   } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << e.description() << " at line " << e.source().begin.line << ", column "
-       << e.source().begin.column;
-    throw InputError(origin, "(file)", "malformed TOML: " + os.str());
+    throw InputError(origin, "(file)",
+                     MalformedTomlRule(std::string(e.description()), toml_text,
+                                       e.source().begin.line, e.source().begin.column));
   }
   Flatten(t, "", this);
 }

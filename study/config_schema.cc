@@ -68,6 +68,7 @@ std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
       {"sim.settle", non_negative},
       {"sim.max_step", non_negative},
       {"sim.max_steps", non_negative},
+      {"sim.max_wall_time", non_negative},
       {"output.rate", non_negative},
       {"output.midspan", non_negative},
       {"vtk.scale", non_negative},
@@ -385,6 +386,10 @@ const std::vector<ParamDef>& Schema() {
        "integrator steps allowed for each integration of a run (settling and capture, a steady "
        "start's revolution), >= 0; 0 = 10^6 per simulated second + 10^5; a run that reaches it "
        "fails, keeping what it computed"},
+      {"sim.max_wall_time", K::kQuantity, D::kTime, "0",
+       "wall-clock time allowed for a run (all its integrations: settling, a steady start's "
+       "revolutions, capture, the ideal twin's separately) [s], >= 0; 0 = unlimited; a run that "
+       "exceeds it fails, keeping what it computed"},
       {"sim.linear_solver",
        K::kChoice,
        D::kDimensionless,

@@ -14,21 +14,27 @@ const Preset* FindPreset(const std::string& name) {
   return nullptr;
 }
 
+const Preset* FindRunPreset(const std::string& name) {
+  return name.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(name);  // sweep-* are matrices
+}
+
+std::string RunPresetNames() {
+  std::string names;
+  for (const Preset& q : Presets()) {
+    if (FindRunPreset(q.name)) names += (names.empty() ? "" : ", ") + q.name;
+  }
+  return names;
+}
+
 Config LoadRunInput(const std::string& input, const std::vector<std::string>& sets) {
   Config cfg;
-  const Preset* p =
-      input.rfind("sweep-", 0) == 0 ? nullptr : FindPreset(input);  // sweep-* are matrices
-  if (p) {
+  if (const Preset* p = FindRunPreset(input)) {
     cfg.LoadToml(p->toml, "preset " + input);
   } else if (std::filesystem::exists(input)) {
     cfg.LoadTomlFile(input);
   } else {
-    std::string names;
-    for (const Preset& q : Presets()) {
-      if (q.name.rfind("sweep-", 0) != 0) names += (names.empty() ? "" : ", ") + q.name;
-    }
     throw InputError("input", input,
-                     "is neither a preset (" + names + ") nor an existing TOML file");
+                     "is neither a preset (" + RunPresetNames() + ") nor an existing TOML file");
   }
   for (const std::string& s : sets) cfg.SetAssignment(s);
   return cfg;

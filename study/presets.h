@@ -21,6 +21,11 @@ const std::vector<Preset>& Presets();
 /// The preset of that name, or nullptr.
 const Preset* FindPreset(const std::string& name);
 
+/// The run input preset of that name: nullptr for a sweep-* matrix or an unknown name.
+const Preset* FindRunPreset(const std::string& name);
+/// The run input presets' names, comma-separated (the sweep-* matrices left out).
+std::string RunPresetNames();
+
 /// The input of one run: the preset `input` (not a sweep-* matrix) or the TOML file of that
 /// path, then the "key=value" assignments in order. InputError("input", ...) if it is neither.
 Config LoadRunInput(const std::string& input, const std::vector<std::string>& sets);

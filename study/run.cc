@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "study/run.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include "common/files.h"
 #include "common/units.h"
 #include "study/exact_rod_view.h"
+#include "study/rod_config.h"
 #include "study/run_files.h"
 #include "study/signals.h"
 
@@ -336,6 +338,36 @@ multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
   return o;
 }
 
+/// The memory this process may use [B]: the physical memory, or the address-space limit if
+/// lower (ulimit -v).
+double AvailableMemory() {
+  double bytes = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGE_SIZE);
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+    bytes = std::min(bytes, static_cast<double>(limit.rlim_cur));
+  return bytes;
+}
+
+/// The record (8 B per channel and sample) must fit in half the memory available: a capture
+/// beyond it is refused before the run, naming the keys that set its size.
+void CheckRecordFitsMemory(const Config& cfg, const MechanismModel& mm, double samples) {
+  Recorder scratch;
+  nlohmann::json gauges;
+  std::optional<study::ImpactLogger> impacts;
+  if (mm.clearance.index >= 0) impacts.emplace();
+  DefineChannels(cfg, mm, &scratch, &gauges, impacts ? &*impacts : nullptr);
+  const double channels = static_cast<double>(scratch.names().size());
+  const double need = samples * channels * sizeof(double), budget = 0.5 * AvailableMemory();
+  if (need <= budget) return;
+  std::ostringstream rule;
+  rule.precision(3);
+  rule << "records " << samples << " samples of " << channels << " channels, " << need / 1e9
+       << " GB; the memory budget is half the memory available, " << budget / 1e9
+       << " GB: shorten sim.capture or lower sim.sample_rate";
+  throw InputError("sim.capture × sim.sample_rate",
+                   cfg.Text("sim.capture") + " × " + cfg.Text("sim.sample_rate"), rule.str());
+}
+
 }  // namespace
 
 void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
@@ -365,12 +397,18 @@ void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
         "needs drive.type = constant (a periodic state has the crank's period; a motor's speed "
         "droops and fluctuates, a profile changes it); use sim.settle instead");
   }
-  const fem::RodSpec* rod = mm.rod ? &mm.rod->rod : mm.exact ? &mm.exact->rod : nullptr;
-  if (rod != nullptr) {
-    (void)ProbeNode(cfg, *rod);
-    (void)GaugePositions(cfg, *rod);
-  }
+  // Positions on the rod are checked also where this run does not use them (a rigid rod has
+  // no deflection channel, run no modal interface): a value the rules refuse is refused.
+  fem::RodSpec rigid;  // the mesh the keys would give a rigid rod (it has no material)
+  rigid.length = cfg.Quantity("rod.length");
+  rigid.num_elements = cfg.Integer("rod.elements");
+  const fem::RodSpec& rod = mm.rod ? mm.rod->rod : mm.exact ? mm.exact->rod : rigid;
+  (void)ProbeNode(cfg, rod);
+  (void)GaugePositions(cfg, rod);
+  if (cfg.IsSet("modes.interface"))
+    (void)InterfaceNodes("modes.interface", cfg.Text("modes.interface"), rod);
   (void)ReadOutputSelection(cfg, opt.sample_rate, nullptr);
+  CheckRecordFitsMemory(cfg, mm, capture * opt.sample_rate);
 }
 
 namespace {
@@ -568,6 +606,11 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
     opt.t_end += 1.0;  // wait for the index
   const int max_steps = cfg.Integer("sim.max_steps");
   opt.max_steps = max_steps > 0 ? max_steps : std::lround(1e6 * (opt.t_end - opt.t_start)) + 100000;
+  if (const double budget = cfg.Quantity("sim.max_wall_time"); budget > 0.0) {
+    // Capped at 10⁹ s (32 years), which keeps the conversion to clock ticks defined.
+    opt.deadline = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                               std::chrono::duration<double>(std::min(budget, 1e9)));
+  }
   opt.time_elements = profile;
   opt.integrator.time_calls = profile;
   opt.stop = stop;
@@ -856,9 +899,12 @@ Config TightenedForCheck(const Config& cfg) {
   try {
     (void)OptionsFromConfig(check);
   } catch (const InputError& e) {
-    throw InputError("--check", e.key() + " = " + e.value(),
-                     "the check runs at 100x tighter tolerances, which " + e.rule() +
-                         "; loosen the run's own tolerance");
+    // The user's value is named; the derived one is in the rule.
+    const bool tolerance = e.key() == "sim.rel_tol" || e.key() == "sim.abs_tol";
+    throw InputError("--check",
+                     e.key() + " = " + (tolerance ? FormatValue(cfg.Quantity(e.key())) : e.value()),
+                     "the check runs at 100x tighter tolerances (" + e.key() + " = " + e.value() +
+                         "), which " + e.rule() + "; loosen the run's own tolerance");
   }
   return check;
 }

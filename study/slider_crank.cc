@@ -239,6 +239,9 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   // ---- drive ----
   const double theta0 = cfg.Quantity("drive.initial_angle");
   const std::string drive = cfg.Text("drive.type");
+  // A profile given with another drive type is still checked: its rules hold whatever is used.
+  if (drive != "profile" && !cfg.Text("drive.profile").empty())
+    (void)ParseProfile(cfg.Text("drive.profile"));
   if (drive == "constant") {
     const double w = cfg.Quantity("drive.speed");
     out.driver = b.AddConstantSpeedDriver("drive", out.crank, theta0, w);

@@ -78,10 +78,14 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
     }
   }
   if (!any_probe) return;  // every probe failed numerically: the runs will say why
-  for (const std::string& name : matrix.store.channels) {
-    if (!available.count(name)) {
-      throw InputError("store.channels", name,
-                       "no run of this matrix has this channel; available: " + JoinSet(available));
+  for (const auto& [key, names] :
+       {std::pair{"store.channels", &matrix.store.channels},
+        std::pair{"store.poincare_channels", &matrix.store.poincare_channels}}) {
+    for (const std::string& name : *names) {
+      if (!available.count(name)) {
+        throw InputError(
+            key, name, "no run of this matrix has this channel; available: " + JoinSet(available));
+      }
     }
   }
 }
@@ -152,7 +156,13 @@ SweepSession::SweepSession(const SweepMatrix& matrix, const std::string& store_p
                      "exists and is not a flexrod sweep store: choose another file");
   }
   const std::string parent = fs::path(store_path).parent_path().string();
-  if (!parent.empty()) EnsureDirectory("--out", parent);
+  if (!parent.empty()) {
+    try {
+      EnsureDirectory("--out", parent);
+    } catch (const InputError& e) {  // named by the value given, the parent in the rule
+      throw InputError("--out", store_path, "its directory " + parent + ": " + e.rule());
+    }
+  }
   EnsureDirectory("--out", parts_dir_);
   const std::string lock_path = parts_dir_ + "/.lock";
   lock_fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT, 0644);

@@ -157,6 +157,23 @@ void CollectAxes(const toml::table& table, const std::string& prefix, const std:
     Axis axis;
     if (const toml::table* sub = node.as_table()) {
       if (!IsRange(*sub)) {
+        if (FindParam(key) &&
+            (sub->contains("from") || sub->contains("to") || sub->contains("step"))) {
+          for (const auto& [field, value] : *sub) {  // a field beyond the three, by name
+            const std::string f(field.str());
+            if (f != "from" && f != "to" && f != "step") {
+              std::ostringstream text;
+              value.visit([&text](const auto& n) { text << n; });
+              throw InputError(key + "." + f, text.str(),
+                               "unknown field of a range; a range takes from, to and step");
+            }
+          }
+          std::ostringstream text;
+          text << *sub;
+          throw InputError(key, text.str(),
+                           "a range needs all of from, to and step (a missing step is not "
+                           "guessed); or list the values");
+        }
         CollectAxes(*sub, key, where, axes);
         continue;
       }
@@ -236,12 +253,6 @@ void FlattenSet(const toml::table& t, const std::string& prefix,
       out->push_back({node.source().begin.line, {key, v}});
     }
   }
-}
-
-std::string PresetNames() {
-  std::vector<std::string> names;
-  for (const Preset& p : Presets()) names.push_back(p.name);
-  return JoinNames(names);
 }
 
 std::string ReadText(const std::string& path) {
@@ -344,10 +355,9 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
   try {
     doc = toml::parse(toml_text, origin);
   } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << e.description() << " at line " << e.source().begin.line << ", column "
-       << e.source().begin.column;
-    throw InputError(origin, "(matrix file)", "malformed TOML: " + os.str());
+    throw InputError(origin, "(matrix file)",
+                     MalformedTomlRule(std::string(e.description()), toml_text,
+                                       e.source().begin.line, e.source().begin.column));
   }
   SweepMatrix m;
   m.origin = origin;
@@ -396,21 +406,28 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
       }
     }
   }
-  // The base input.
-  if (const Preset* p = FindPreset(m.base)) {
+  // The base input: a run's input, not a matrix.
+  if (FindPreset(m.base) && !FindRunPreset(m.base)) {
+    throw InputError("sweep.base", m.base,
+                     "is a sweep matrix; the base is a run input: a preset (" + RunPresetNames() +
+                         ") or a TOML file");
+  }
+  if (const Preset* p = FindRunPreset(m.base)) {
     m.base_toml = p->toml;
   } else {
     fs::path path(m.base);
     if (path.is_relative()) path = fs::path(base_dir) / path;
     if (!fs::is_regular_file(path)) {
       throw InputError("sweep.base", m.base,
-                       "is neither a preset (" + PresetNames() + ") nor a readable TOML file");
+                       "is neither a preset (" + RunPresetNames() + ") nor a readable TOML file");
     }
     m.base_toml = ReadText(path.string());
   }
-  {
+  try {
     Config check;
-    check.LoadToml(m.base_toml, "base " + m.base);
+    check.LoadToml(m.base_toml, m.base);
+  } catch (const InputError& e) {
+    throw InputError("sweep.base", m.base, "is not a valid run input: " + std::string(e.what()));
   }
   // Overrides: [set] in document order, then the command line.
   if (const toml::table* set = doc["set"].as_table()) {

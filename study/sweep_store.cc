@@ -547,7 +547,12 @@ SweepStore ReadStoreContent(const h5::Node& file, bool with_channels) {
 }  // namespace
 
 SweepStore ReadStore(const std::string& path, bool with_channels) {
-  if (!fs::is_regular_file(path)) throw InputError("store", path, "does not exist");
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) throw InputError("store", path, "does not exist");
+  if (fs::is_directory(status)) throw InputError("store", path, "is a directory, not a store file");
+  if (!fs::is_regular_file(status))
+    throw InputError("store", path, "must be a regular file, not a device or pipe");
   std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
   h5::Node file;
   try {

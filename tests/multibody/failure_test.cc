@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -156,22 +158,41 @@ TEST(IntegratorFailure, StopFlagEndsTheRunAtTheNextStepAndKeepsSamples) {
             static_cast<long>(std::floor(st.t_reached * 1e4 + 1e-9)) + 1);
 }
 
-TEST(IntegratorFailure, StepBudgetStopsTheRunAndKeepsSamples) {
+/// The rigid slider-crank for 1 s at 10 kHz with a budget set by `limit`: the run stops as
+/// `expected`, with the samples up to where it stopped.
+SimulationStatus RunOutOfBudget(const std::function<void(SimulationOptions*)>& limit,
+                                SimulationOutcome expected) {
   SliderCrankParams P;
   auto sc = BuildRigidSliderCrank(P);
   RunData data(sc.model);
   SimulationOptions opt;
   opt.t_end = 1.0;
   opt.sample_rate = 1e4;
-  opt.max_steps = 40;
+  limit(&opt);
   Collected c;
   const SimulationStatus st = Simulate(sc.model, &data, SliderCrankGuess(sc, P), opt, Collect(&c));
-  EXPECT_EQ(st.outcome, SimulationOutcome::kStepLimit);
+  EXPECT_EQ(st.outcome, expected);
   EXPECT_GT(st.t_reached, 0.0);
   EXPECT_LT(st.t_reached, 1.0);
-  EXPECT_EQ(st.stats.steps, 40);
   EXPECT_EQ(static_cast<long>(c.times.size()),
             static_cast<long>(std::floor(st.t_reached * 1e4 + 1e-9)) + 1);
+  return st;
+}
+
+TEST(IntegratorFailure, StepBudgetStopsTheRunAndKeepsSamples) {
+  const SimulationStatus st = RunOutOfBudget([](SimulationOptions* o) { o->max_steps = 40; },
+                                             SimulationOutcome::kStepLimit);
+  EXPECT_EQ(st.stats.steps, 40);
+}
+
+// A deadline already passed stops the run after its first step.
+TEST(IntegratorFailure, WallClockBudgetStopsTheRunAndKeepsSamples) {
+  const SimulationStatus st =
+      RunOutOfBudget([](SimulationOptions* o) { o->deadline = std::chrono::steady_clock::now(); },
+                     SimulationOutcome::kWallTimeLimit);
+  EXPECT_STREQ(ToString(st.outcome), "wall-time-limit");
+  EXPECT_NE(st.hint.find("sim.max_wall_time"), std::string::npos) << st.hint;
+  EXPECT_EQ(st.stats.steps, 1);
 }
 
 // A root function that reaches zero at t_graze and stays exactly zero afterwards (a contact
