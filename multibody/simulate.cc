@@ -553,6 +553,10 @@ std::string SimulationStatus::Summary() const {
   if (!ok()) {
     os << ": " << message << "\n  hint: " << hint << "\n  |p| = " << norm_coordinates
        << ", |v| = " << norm_velocities << ", |lambda| = " << norm_multipliers;
+    for (size_t k = 0; k < failure_state.size(); ++k) {
+      os << (k % 3 == 0 ? "\n  " : ", ") << failure_state[k].first << " = "
+         << failure_state[k].second;
+    }
     if (worst_residual_index >= 0) {
       os << "\n  largest residual " << worst_residual << " at " << worst_residual_variable;
     }
@@ -691,6 +695,15 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const Consisten
     status.norm_coordinates = y.head(np).norm();
     status.norm_velocities = y.segment(np, np).norm();
     status.norm_multipliers = y.segment(model.lambda_offset(), model.num_constraints()).norm();
+    status.failure_state.clear();
+    for (int offset : {0, np}) {
+      for (const Body& b : model.bodies()) {
+        for (int c : {kX, kY, kTheta}) {
+          const int i = offset + b.coordinate(c);
+          status.failure_state.emplace_back(model.VariableName(i), y(i));
+        }
+      }
+    }
     Vec r(N);
     CalcResidual(model, data, t_now, y.data(), yp.data(), r.data());
     status.worst_residual_index = WorstIndex(r);

@@ -259,6 +259,9 @@ struct SimulationStatus {
   int worst_error_index{-1};  ///< unknown with the largest weighted local error estimate
   std::string worst_error_variable;
   double worst_weighted_error{0.0};
+  /// On failure: every body's rigid coordinates and velocities (x, y, θ) at the last state IDA
+  /// returned, by variable name ("p[crank.theta]" [m or rad], "v[crank.theta]" [m/s or rad/s]).
+  std::vector<std::pair<std::string, double>> failure_state;
   long num_samples{0};
   long root_stall_restarts{0};  ///< re-initialisations past a root function stuck at zero
   int unknowns{0};              ///< unknowns IDA integrated (model.size() less the prescribed)

@@ -432,6 +432,11 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
                       {"unknowns", st.unknowns},
                       {"wall_time [s]", st.wall_seconds},
                       {"output_time [s]", st.output_seconds}};
+  if (!st.ok()) {
+    nlohmann::json state = nlohmann::json::object();  // [m, rad; m/s, rad/s] by coordinate
+    for (const auto& [name, value] : st.failure_state) state[name] = value;
+    j["state_at_failure [m, rad, m/s, rad/s]"] = state;
+  }
   if (profiled) {
     j["residual_time [s]"] = st.stats.residual_seconds;
     j["jacobian_time [s]"] = st.stats.jacobian_seconds;

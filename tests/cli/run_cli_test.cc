@@ -170,8 +170,9 @@ TEST(RunCli, NumericalFailureReportsTimeStateAndHint) {
   EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
   std::ifstream in(log);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (const char* part : {"step-limit at t = ", "hint: increase the step budget (sim.max_steps)",
-                           "|p| = ", "largest residual", "kept "}) {
+  for (const char* part :
+       {"step-limit at t = ", "hint: increase the step budget (sim.max_steps)",
+        "|p| = ", "p[crank.theta] = ", "v[slider.x] = ", "largest residual", "kept "}) {
     EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
   }
   EXPECT_TRUE(fs::exists(out / "summary.json"));
