@@ -1,15 +1,19 @@
 // tests/contact/impact_reftest.cc — single impacts against analytic solutions: Hertz
 // (peak penetration and duration), the linear spring, Kelvin–Voigt (non-tensile closed form and
-// its textbook light-damping limit), Maxwell (textbook formula, exact for it); and the
-// achieved-versus-input restitution table of the hysteresis family, printed for the record,
-// asserting the known behaviour (Flores close over the whole range, Lankarani–Nikravesh only
-// near 1).
+// its textbook light-damping limit), Maxwell (textbook formula, exact for it); the hysteresis
+// family's damping factors against their published forms and the exact restitution relation
+// (Hunt & Crossley 1975, Gonthier et al. 2004); and the achieved-versus-input restitution
+// table of the hysteresis family, printed for the record, asserting the known behaviour
+// (Flores close over the whole range, Lankarani–Nikravesh only near 1).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
+#include <variant>
 
 #include "contact/impact.h"
 #include "tests/contact/contact_test_util.h"
@@ -101,6 +105,71 @@ TEST(ImpactReference, ElastoPlasticRestitutionIsExactlyTheInput) {
     const ImpactResult r =
         SimulateImpact(MakeNormalLaw("elasto-plastic", SteelPair(e), RigGeometry()), 1.0, 1.0);
     EXPECT_NEAR(r.achieved_restitution, e, 1e-9) << e;
+  }
+}
+
+/// The restitution a hysteresis law F = K δⁿ (1 + D̃ δ̇/v₀) achieves, exactly: with u = δ̇/v₀,
+/// m v₀² u du/dδ = −K δⁿ (1 + D̃u) separates, and ∫δⁿ dδ over the impact (0 → δ_max → 0)
+/// vanishes, so ∫₁^(−e*) u/(1 + D̃u) du = 0, i.e. ln((1 + D̃)/(1 − D̃e*)) = D̃(1 + e*)
+/// (Hunt & Crossley 1975, Gonthier et al. 2004, eq. for the exact restitution), whatever K, n,
+/// m and v₀. The root lies below 1/D̃, so the force never pulls. Solved by bisection.
+double ExactHysteresisRestitution(double damping_factor) {
+  const double D = damping_factor;
+  double lo = 0.0, hi = std::min(1.0, 1.0 / D);
+  for (int k = 0; k < 200; ++k) {
+    const double e = 0.5 * (lo + hi);
+    (std::log((1.0 + D) / (1.0 - D * e)) > D * (1.0 + e) ? hi : lo) = e;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Each law's damping factor is its published closed form in cₑ (contact-models.md), and the
+// simulated impact returns the restitution the exact relation above gives for that factor.
+// The relation then shows each form's known accuracy: Hunt–Crossley's 3(1 − cₑ)/2 is the
+// first-order inversion near cₑ = 1 (error O((1 − cₑ)²)); Gonthier's (1 − cₑ²)/cₑ is accurate
+// at low restitution and 4/3 too dissipative near 1; Lankarani–Nikravesh only near 1.
+TEST(ImpactReference, HysteresisLawsHaveTheirPublishedFactorsAndTheExactRestitution) {
+  struct Form {
+    const char* law;
+    double (*factor)(double e);
+  };
+  const Form forms[] = {
+      {"lankarani-nikravesh", [](double e) { return 0.75 * (1.0 - e * e); }},  // L&N 1990
+      {"hunt-crossley", [](double e) { return 1.5 * (1.0 - e); }},             // H&C 1975
+      {"flores", [](double e) { return 1.6 * (1.0 - e) / e; }},                // Flores 2011
+      {"gonthier", [](double e) { return (1.0 - e * e) / e; }},                // Gonthier 2004
+  };
+  for (const Form& f : forms) {
+    for (double e : {0.1, 0.3, 0.5, 0.7, 0.9, 0.95, 0.99}) {
+      const NormalLaw law = MakeNormalLaw(f.law, SteelPair(e), RigGeometry());
+      const double factor = std::visit(
+          [](const auto& l) {
+            if constexpr (requires { l.hysteresis; }) {
+              return l.hysteresis.damping_factor;
+            } else {
+              return -1.0;
+            }
+          },
+          law);
+      EXPECT_NEAR(factor, f.factor(e), 1e-14 * f.factor(e)) << f.law << " e " << e;
+      const double exact = ExactHysteresisRestitution(f.factor(e));
+      for (double mass : {0.3, 2.0}) {
+        for (double v0 : {0.05, 1.5}) {
+          EXPECT_NEAR(SimulateImpact(law, mass, v0).achieved_restitution, exact, 1e-7)
+              << f.law << " e " << e << " m " << mass << " v0 " << v0;
+        }
+      }
+      const std::string name = f.law;
+      if (name == "hunt-crossley") {
+        EXPECT_NEAR(exact, e, 1.2 * (1.0 - e) * (1.0 - e)) << e;
+      }
+      if (name == "gonthier" && e <= 0.3) {
+        EXPECT_NEAR(exact, e, 0.005) << e;
+      }
+      if (name == "gonthier" && e >= 0.9) {
+        EXPECT_NEAR(1.0 - exact, 4.0 / 3.0 * (1.0 - e), 0.15 * (1.0 - e)) << e;
+      }
+    }
   }
 }
 
