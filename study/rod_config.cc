@@ -2,6 +2,7 @@
 #include "study/rod_config.h"
 
 #include <sstream>
+#include <stdexcept>
 
 #include "common/error.h"
 
@@ -65,7 +66,9 @@ std::vector<int> InterfaceNodes(const std::string& key, const std::string& text,
     int node = -1;
     try {
       node = std::stoi(item, &used);
-    } catch (const std::exception&) {
+    } catch (const std::invalid_argument&) {  // not a number: refused below
+      used = 0;
+    } catch (const std::out_of_range&) {
       used = 0;
     }
     if (used == 0 || used != item.size()) {

@@ -98,10 +98,14 @@ void WriteRunH5(const std::string& dir, const Config& cfg, const RunResult& run,
     impacts.SetAttr("names", names);  // the column order, as in the other groups
     impacts.SetAttr("units", units);
     file.Close(tmp);
-  } catch (const std::exception& e) {
+  } catch (const IoError& e) {
     std::error_code ec;
     fs::remove(tmp, ec);
     throw IoError(std::string(e.what()) + " (writing " + path + ")");
+  } catch (...) {  // a bug or out of memory stays what it is; the half file goes
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
   }
   CommitFile(tmp, path);
 }

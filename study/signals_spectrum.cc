@@ -9,7 +9,6 @@
 #include <numbers>
 
 #include "common/error.h"
-#include "study/signals_extrema.h"
 
 namespace flexrod::study {
 namespace {
@@ -186,18 +185,6 @@ Spectrum CalcAmplitudeSpectrum(const TimeSeries& series, std::string_view channe
   const std::span<const double> x = series.values(channel);
   ValidateRange("spectrum.range", range, x.size());
   return CalcAmplitudeSpectrum(x.subspan(range.begin, range.size()), series.sample_rate(), window);
-}
-
-std::vector<SpectralPeak> FindSpectralPeaks(const Spectrum& spectrum, double floor) {
-  Require(floor >= 0.0, "spectrum.peak_floor", floor, "must be >= 0");
-  std::vector<std::size_t> bins;
-  FindLocalMaxima(spectrum.amplitude, floor, &bins);
-  std::vector<SpectralPeak> peaks;
-  peaks.reserve(bins.size());
-  for (std::size_t k : bins) {
-    peaks.push_back(SpectralPeak{k, spectrum.frequency[k], spectrum.amplitude[k]});
-  }
-  return peaks;
 }
 
 }  // namespace flexrod::study

@@ -80,16 +80,4 @@ Spectrum CalcAmplitudeSpectrum(std::span<const double> x, double sample_rate, Wi
 Spectrum CalcAmplitudeSpectrum(const TimeSeries& series, std::string_view channel,
                                SampleRange range, Window window);
 
-/// A peak of the spectrum.
-struct SpectralPeak {
-  std::size_t bin{0};
-  double frequency{0.0};  ///< bin frequency [Hz]
-  double amplitude{0.0};  ///< [unit of the signal]
-};
-
-/// The spectrum's local maxima with amplitude > floor, by the plateau rule of
-/// FindLocalMaxima (study/signals_extrema.h): bin 0 and the last bin are never peaks.
-/// Ordered by frequency. floor must be ≥ 0 (InputError otherwise).
-std::vector<SpectralPeak> FindSpectralPeaks(const Spectrum& spectrum, double floor);
-
 }  // namespace flexrod::study

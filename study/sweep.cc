@@ -191,7 +191,7 @@ SweepSession::SweepSession(const SweepMatrix& matrix, const std::string& store_p
         const StoredRun stored = ReadPartFile(part, false);
         finished =
             stored.fingerprint == fingerprints_.back() && stored.input_toml == InputToml(cfg);
-      } catch (const std::exception&) {
+      } catch (const IoError&) {  // damaged or incomplete: computed again
         finished = false;
       }
       if (!finished) fs::remove(part);
