@@ -8,11 +8,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <string>
+#include <unsupported/Eigen/MatrixFunctions>
 #include <variant>
 
 #include "contact/impact.h"
@@ -170,6 +174,106 @@ TEST(ImpactReference, HysteresisLawsHaveTheirPublishedFactorsAndTheExactRestitut
         EXPECT_NEAR(1.0 - exact, 4.0 / 3.0 * (1.0 - e), 0.15 * (1.0 - e)) << e;
       }
     }
+  }
+}
+
+// The standard linear solid's damping is calibrated by simulating impacts; here the calibrated
+// law's restitution is computed without SimulateImpact. While F = k₁δ + k₂(δ − x_d) > 0 the
+// impact is linear; in the units L = v₀τ, τ = √(m/(k₁+k₂)) of length and time, s = (δ/L,
+// δ̇/v₀, x_d/L) obeys ṡ = A s with A = [0 1 0; −1 0 r; G 0 −G], r = k₂/(k₁+k₂), G = τk₂/d,
+// so s(t) = exp(At) s₀ (Eigen's Padé scaling and squaring on the well-scaled matrix, not the
+// RK8(9) of SimulateImpact). The force reaches zero at t₁ (bracketed on a grid, then
+// bisected); after it the force stays clipped at zero: δ̇ is constant and y = x_d − δ obeys
+// ẏ = −G y − δ̇, so F ∝ (1 − r)δ − r y is checked to stay ≤ 0 in closed form until δ = 0.
+// The restitution is −δ̇(t₁)/v₀.
+TEST(ImpactReference, StandardLinearSolidRestitutionFromTheMatrixExponential) {
+  const double mass = 2.5, v0 = 0.3;
+  for (double e : {0.5, 0.7, 0.95}) {
+    const NormalLaw law = MakeNormalLaw("standard-linear-solid", SteelPair(e), RigGeometry(),
+                                        testing::NeededOverrides("standard-linear-solid", mass));
+    const auto& sls = std::get<StandardLinearSolidLaw>(law);
+    const double k = sls.stiffness + sls.arm_stiffness, r = sls.arm_stiffness / k;
+    const double G = std::sqrt(mass / k) * sls.arm_stiffness / sls.damping;
+    Eigen::Matrix3d A;
+    A << 0.0, 1.0, 0.0, -1.0, 0.0, r, G, 0.0, -G;
+    const Eigen::Vector3d s0(0.0, 1.0, 0.0);
+    auto state = [&](double t) -> Eigen::Vector3d { return (A * t).exp() * s0; };
+    auto force = [&](double t) {  // F/(kL)
+      const Eigen::Vector3d s = state(t);
+      return s(0) - r * s(2);
+    };
+    double lo = 0.0, hi = 0.0;  // the loaded phase lasts less than 4 elastic half periods
+    for (int i = 1; i <= 4000; ++i) {
+      hi = 4.0 * std::numbers::pi * i / 4000.0;
+      if (force(hi) <= 0.0) break;
+      lo = hi;
+    }
+    ASSERT_LE(force(hi), 0.0) << "no force zero within 4 half periods";
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (force(mid) > 0.0 ? lo : hi) = mid;
+    }
+    const Eigen::Vector3d s1 = state(hi);
+    ASSERT_LT(s1(1), 0.0);
+    ASSERT_GE(s1(0), 0.0);
+    const double y1 = s1(2) - s1(0), v1 = s1(1), t_exit = s1(0) / -v1;
+    for (int i = 0; i <= 1000; ++i) {  // the clipped force stays clipped until the exit
+      const double t = t_exit * i / 1000.0;
+      const double y = (y1 + v1 / G) * std::exp(-G * t) - v1 / G;
+      EXPECT_LE((1.0 - r) * (s1(0) + v1 * t) - r * y, 1e-12) << "e " << e;
+    }
+    EXPECT_NEAR(-v1, e, 1e-9) << "calibration, e " << e;
+    EXPECT_NEAR(SimulateImpact(law, mass, v0).achieved_restitution, -v1, 1e-9) << "e " << e;
+  }
+}
+
+// ADAMS IMPACT: F = Kδⁿ + c(δ) δ̇, c a cubic step from 0 at δ = 0 to c_max at d_max; c_max is
+// calibrated by simulating impacts. Here the calibrated law's restitution is computed without
+// SimulateImpact: classical RK4 at a fixed step (1/20000 of the elastic time scale), the last
+// step shortened by bisection to end exactly at δ = 0; doubling the step count changes it by
+// less than the tolerance.
+TEST(ImpactReference, ImpactFunctionRestitutionFromFixedStepRungeKutta) {
+  const double mass = 2.5, v0 = 0.3;
+  for (double e : {0.5, 0.7, 0.95}) {
+    const NormalLaw law = MakeNormalLaw("impact", SteelPair(e), RigGeometry(),
+                                        {{"effective-mass", mass}, {"calibration-velocity", v0}});
+    const auto& impact = std::get<ImpactFunctionLaw>(law);
+    // Elastic scale: K δⁿ⁺¹/(n + 1) = ½ m v₀².
+    const double n = impact.exponent;
+    const double delta =
+        std::pow((n + 1.0) * mass * v0 * v0 / (2.0 * impact.stiffness), 1.0 / (n + 1.0));
+    using State = std::array<double, 2>;  // δ [m], δ̇ [m/s]
+    auto rate = [&](const State& s) -> State {
+      return {s[1], -CalcNormalForce(law, std::max(s[0], 0.0), s[1], v0, {}).force / mass};
+    };
+    auto step = [&](const State& s, double h) {
+      const State a = rate(s), b = rate({s[0] + 0.5 * h * a[0], s[1] + 0.5 * h * a[1]});
+      const State c = rate({s[0] + 0.5 * h * b[0], s[1] + 0.5 * h * b[1]});
+      const State d = rate({s[0] + h * c[0], s[1] + h * c[1]});
+      return State{s[0] + h / 6.0 * (a[0] + 2.0 * b[0] + 2.0 * c[0] + d[0]),
+                   s[1] + h / 6.0 * (a[1] + 2.0 * b[1] + 2.0 * c[1] + d[1])};
+    };
+    auto restitution = [&](int per_scale) {
+      const double h = delta / v0 / per_scale;
+      State s{0.0, v0};
+      for (long i = 0; i < 1000L * per_scale; ++i) {
+        const State next = step(s, h);
+        if (next[0] <= 0.0 && next[1] < 0.0) {  // crossed δ = 0 outwards: land on it
+          double lo = 0.0, hi = h;
+          for (int it = 0; it < 100; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (step(s, mid)[0] > 0.0 ? lo : hi) = mid;
+          }
+          return -step(s, hi)[1] / v0;
+        }
+        s = next;
+      }
+      return std::numeric_limits<double>::quiet_NaN();
+    };
+    const double reference = restitution(40000);
+    EXPECT_NEAR(restitution(20000), reference, 1e-10) << "e " << e;
+    EXPECT_NEAR(reference, e, 1e-8) << "calibration, e " << e;
+    EXPECT_NEAR(SimulateImpact(law, mass, v0).achieved_restitution, reference, 1e-9) << "e " << e;
   }
 }
 
