@@ -5,6 +5,8 @@
 // 100 kHz: rigid rig 177 rpm, 1 mm, 10 revolutions (target < 0.5 s) and flexible rig 250 rpm,
 // 0.5 mm, 1 s + 3 s, 8 CB modes (target < 3 s). Thread CPU time is reported beside wall time
 // because the machine may be shared. Usage: bench_clearance_joint [rigid|flexible|element ...].
+#include "multibody/clearance_joint.h"
+
 #include <time.h>
 
 #include <chrono>
@@ -14,7 +16,6 @@
 
 #include "contact/friction_law.h"
 #include "contact/normal_law.h"
-#include "multibody/clearance_joint.h"
 #include "multibody/simulate.h"
 #include "study/config.h"
 #include "study/presets.h"
@@ -56,9 +57,10 @@ void BenchElement() {
     sink += out.force_j.x();
   }
   const double c1 = CpuSeconds();
-  std::printf("element: ClearanceJoint::Evaluate (hybrid + coulomb, in contact): %.1f ns per call "
-              "(checksum %.3g); one FD Jacobian = 25 calls\n",
-              1e9 * (c1 - c0) / n, sink);
+  std::printf(
+      "element: ClearanceJoint::Evaluate (hybrid + coulomb, in contact): %.1f ns per call "
+      "(checksum %.3g); one FD Jacobian = 25 calls\n",
+      1e9 * (c1 - c0) / n, sink);
 }
 
 void BenchRun(const char* name, const char* preset, const std::vector<std::string>& sets,
@@ -82,7 +84,7 @@ void BenchRun(const char* name, const char* preset, const std::vector<std::strin
     opt.sample_rate = rate;
     opt.integrator.rel_tol = cfg.Quantity("sim.rel_tol");
     opt.integrator.abs_tol = cfg.Quantity("sim.abs_tol");
-    opt.time_elements = true;        // the contact share (two clock reads per element call)
+    opt.time_elements = true;          // the contact share (two clock reads per element call)
     opt.integrator.time_calls = true;  // the residual, Jacobian and linear-solve shares
     long samples = 0;
     double sink = 0.0;
@@ -98,23 +100,26 @@ void BenchRun(const char* name, const char* preset, const std::vector<std::strin
     const double c0 = CpuSeconds(), w0 = WallSeconds();
     const multibody::SimulationStatus st = multibody::Simulate(mech, &data, ic, opt, cb);
     const double cpu = CpuSeconds() - c0, wall = WallSeconds() - w0;
-    std::printf("  %-22s %s: CPU %.3f s, wall %.3f s, simulated %.3f s; steps %ld, residuals %ld, "
-                "Jacobians %ld, events %ld, error-test failures %ld, convergence failures %ld\n",
-                rate > 1.0 ? "sampled at 100 kHz" : "no output", multibody::ToString(st.outcome),
-                cpu, wall, st.t_reached, st.stats.steps, st.stats.residual_evaluations,
-                st.stats.jacobian_evaluations, st.stats.roots_found, st.stats.error_test_failures,
-                st.stats.nonlinear_convergence_failures);
+    std::printf(
+        "  %-22s %s: CPU %.3f s, wall %.3f s, simulated %.3f s; steps %ld, residuals %ld, "
+        "Jacobians %ld, events %ld, error-test failures %ld, convergence failures %ld\n",
+        rate > 1.0 ? "sampled at 100 kHz" : "no output", multibody::ToString(st.outcome), cpu, wall,
+        st.t_reached, st.stats.steps, st.stats.residual_evaluations, st.stats.jacobian_evaluations,
+        st.stats.roots_found, st.stats.error_test_failures,
+        st.stats.nonlinear_convergence_failures);
     // The clearance joint: its evaluations in residuals and its Jacobian block.
     const double contact = st.element_seconds.at(static_cast<size_t>(mm.clearance.index));
-    std::printf("  %-22s time shares of wall: contact evaluation %.0f %% (inside residual and Jacobian), "
-                "residual %.0f %%, Jacobian %.0f %%, linear solve %.0f "
-                "%%, output %.0f %%, rest (IDA, events, restarts) %.0f %%; N = %d (%s)\n",
-                "", 100 * contact / wall, 100 * st.stats.residual_seconds / wall, 100 * st.stats.jacobian_seconds / wall,
-                100 * st.stats.linear_solve_seconds / wall, 100 * st.output_seconds / wall,
-                100 * (1.0 - (st.stats.residual_seconds + st.stats.jacobian_seconds +
-                              st.stats.linear_solve_seconds + st.output_seconds) /
-                                 wall),
-                mech.size(), multibody::ToString(st.linear_solver));
+    std::printf(
+        "  %-22s time shares of wall: contact evaluation %.0f %% (inside residual and Jacobian), "
+        "residual %.0f %%, Jacobian %.0f %%, linear solve %.0f "
+        "%%, output %.0f %%, rest (IDA, events, restarts) %.0f %%; N = %d (%s)\n",
+        "", 100 * contact / wall, 100 * st.stats.residual_seconds / wall,
+        100 * st.stats.jacobian_seconds / wall, 100 * st.stats.linear_solve_seconds / wall,
+        100 * st.output_seconds / wall,
+        100 * (1.0 - (st.stats.residual_seconds + st.stats.jacobian_seconds +
+                      st.stats.linear_solve_seconds + st.output_seconds) /
+                         wall),
+        mech.size(), multibody::ToString(st.linear_solver));
     (void)samples;
     (void)sink;
   }

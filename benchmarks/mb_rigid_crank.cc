@@ -18,9 +18,9 @@
 namespace flexrod::multibody {
 namespace {
 
-constexpr double kR = 0.05, kL = 0.2, kOffset = 0.0;      // crank radius, rod length, offset [m]
+constexpr double kR = 0.05, kL = 0.2, kOffset = 0.0;  // crank radius, rod length, offset [m]
 constexpr double kOmega = 200.0 * 2.0 * std::numbers::pi / 60.0;  // 200 rpm [rad/s]
-constexpr double kTheta0 = 0.3;                            // [rad]
+constexpr double kTheta0 = 0.3;                                   // [rad]
 
 struct Crank {
   Mechanism model;
@@ -80,7 +80,7 @@ InitialConditionSpec Guess(const Crank& c) {
 }
 
 std::shared_ptr<const fem::ReducedRod> SteelRod(int elements, fem::ReductionMethod method,
-                                               int modes) {
+                                                int modes) {
   fem::RodSpec rod;
   rod.material = fem::MaterialByName("steel");
   rod.section.thickness = 6.35e-3;
@@ -119,20 +119,22 @@ void Run(const std::string& label, const Crank& c, double t_end, double rel_tol,
   const SimulationStatus st = Simulate(c.model, &data, Guess(c), opt, cb);
   const IntegratorStats& s = st.stats;
   const double w = st.wall_seconds;
-  const double other = w - s.residual_seconds - s.jacobian_seconds - s.linear_solve_seconds -
-                       st.output_seconds;
+  const double other =
+      w - s.residual_seconds - s.jacobian_seconds - s.linear_solve_seconds - st.output_seconds;
   std::printf("%s\n", label.c_str());
   std::printf("  unknowns %d, solver %s, rel_tol %.0e, status %s\n", c.model.size(),
               ToString(st.linear_solver), rel_tol, ToString(st.outcome));
   std::printf("  simulated %.3f s, wall %.4f s, real-time factor %.1f\n", t_end, w, t_end / w);
-  std::printf("  steps %ld, residuals %ld, Jacobians %ld, Newton iterations %ld, "
-              "error-test failures %ld, samples %ld\n",
-              s.steps, s.residual_evaluations, s.jacobian_evaluations, s.nonlinear_iterations,
-              s.error_test_failures, st.num_samples);
-  std::printf("  time share: residual %.1f %%, Jacobian %.1f %%, linear solve %.1f %%, "
-              "output %.1f %%, other (IDA internals) %.1f %%\n",
-              100 * s.residual_seconds / w, 100 * s.jacobian_seconds / w,
-              100 * s.linear_solve_seconds / w, 100 * st.output_seconds / w, 100 * other / w);
+  std::printf(
+      "  steps %ld, residuals %ld, Jacobians %ld, Newton iterations %ld, "
+      "error-test failures %ld, samples %ld\n",
+      s.steps, s.residual_evaluations, s.jacobian_evaluations, s.nonlinear_iterations,
+      s.error_test_failures, st.num_samples);
+  std::printf(
+      "  time share: residual %.1f %%, Jacobian %.1f %%, linear solve %.1f %%, "
+      "output %.1f %%, other (IDA internals) %.1f %%\n",
+      100 * s.residual_seconds / w, 100 * s.jacobian_seconds / w, 100 * s.linear_solve_seconds / w,
+      100 * st.output_seconds / w, 100 * other / w);
   std::printf("  per step: %.2f us; per sample (output): %.3f us\n", 1e6 * w / s.steps,
               1e6 * st.output_seconds / std::max(1L, st.num_samples));
   std::fflush(stdout);
@@ -142,12 +144,15 @@ void Run(const std::string& label, const Crank& c, double t_end, double rel_tol,
 int Main(const std::string& which) {
   const double revolution = 2.0 * std::numbers::pi / kOmega;
   const bool all = which == "all";
-  if (all || which == "rigid") Run("rigid slider-crank, 10 revolutions at 200 rpm, 100 kHz output", Build(nullptr),
-      10.0 * revolution, 1e-6);
-  if (all || which == "flexible") Run("flexible slider-crank (Craig-Bampton, 8 modes, band damping), 4 s at 100 kHz",
-      Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0, 1e-6);
-  if (all || which == "flexible") Run("  same at rel_tol 1e-7", Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0,
-      1e-7);
+  if (all || which == "rigid")
+    Run("rigid slider-crank, 10 revolutions at 200 rpm, 100 kHz output", Build(nullptr),
+        10.0 * revolution, 1e-6);
+  if (all || which == "flexible")
+    Run("flexible slider-crank (Craig-Bampton, 8 modes, band damping), 4 s at 100 kHz",
+        Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0, 1e-6);
+  if (all || which == "flexible")
+    Run("  same at rel_tol 1e-7", Build(SteelRod(20, fem::ReductionMethod::kCraigBampton, 8)), 4.0,
+        1e-7);
   if (all || which == "full") {
     const Crank full = Build(SteelRod(40, fem::ReductionMethod::kFull, 0));
     Run("full-FE rod (40 elements), 0.01 s, dense LU", full, 0.01, 1e-6, LinearSolverKind::kDense);
@@ -159,6 +164,4 @@ int Main(const std::string& which) {
 }  // namespace
 }  // namespace flexrod::multibody
 
-int main(int argc, char** argv) {
-  return flexrod::multibody::Main(argc > 1 ? argv[1] : "all");
-}
+int main(int argc, char** argv) { return flexrod::multibody::Main(argc > 1 ? argv[1] : "all"); }

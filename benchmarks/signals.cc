@@ -2,13 +2,13 @@
 // (300 000 samples, RIG.md Table 2) of a slider-crank-like acceleration with impact ringing.
 // Measures only; correctness lives in tests/study/signals_*_test.cc.
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "study/signals.h"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include "study/signals.h"
 
 namespace flexrod::study {
 namespace {

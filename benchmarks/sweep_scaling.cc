@@ -89,10 +89,12 @@ int main(int argc, char** argv) {
                 table2.num_runs());
     const Timing t1 = TimeSweep(table2, dir / "table2-1.h5", 1);
     const Timing t2 = TimeSweep(table2, dir / "table2-2.h5", 2);
-    std::printf("  speed-up %.3f, parallel efficiency T1 / (2 T2) = %.1f %% (target >= 90 %%); "
-                "2 threads: %.1f min (target < 10 min)\n",
-                t1.wall / t2.wall, 100.0 * t1.wall / (2.0 * t2.wall), t2.wall / 60.0);
-    std::printf("  store: %.1f MB (%s)\n", static_cast<double>(fs::file_size(dir / "table2-2.h5")) / 1e6,
+    std::printf(
+        "  speed-up %.3f, parallel efficiency T1 / (2 T2) = %.1f %% (target >= 90 %%); "
+        "2 threads: %.1f min (target < 10 min)\n",
+        t1.wall / t2.wall, 100.0 * t1.wall / (2.0 * t2.wall), t2.wall / 60.0);
+    std::printf("  store: %.1f MB (%s)\n",
+                static_cast<double>(fs::file_size(dir / "table2-2.h5")) / 1e6,
                 "channels at 10 kHz, spectra to 5 kHz, turning points, Poincare points");
     fs::remove_all(dir);
     return 0;

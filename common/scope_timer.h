@@ -15,7 +15,8 @@ class ScopeTimer {
     if (seconds_) start_ = std::chrono::steady_clock::now();
   }
   ~ScopeTimer() {
-    if (seconds_) *seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (seconds_)
+      *seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
   ScopeTimer(const ScopeTimer&) = delete;
   ScopeTimer& operator=(const ScopeTimer&) = delete;

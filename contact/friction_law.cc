@@ -108,8 +108,8 @@ FrictionForce Eval(const StribeckFrictionLaw& l, double v, double fn, double) {
                 l.stribeck_exponent, v, &mu, &dmu);
   const double s = std::tanh(v / l.regularisation_velocity);
   const double ds = (1.0 - s * s) / l.regularisation_velocity;
-  return {-fn * mu * s - l.viscous_coefficient * v, -fn * (dmu * s + mu * ds) - l.viscous_coefficient,
-          -mu * s, 0.0};
+  return {-fn * mu * s - l.viscous_coefficient * v,
+          -fn * (dmu * s + mu * ds) - l.viscous_coefficient, -mu * s, 0.0};
 }
 
 FrictionStateRate LuGreRate(const LuGreFrictionLaw& l, double v, double z) {

@@ -25,7 +25,8 @@ Matrix6d PlanarFrameMass(const RectSection& s, const Material& m, double length,
 /// Geometric stiffness for a unit axial tension N = 1 N (multiply by N) [1/m].
 Matrix6d PlanarFrameGeometricStiffness(double length);
 
-Matrix12d SpatialFrameStiffness(const RectSection& s, const Material& m, double length, BeamTheory t);
+Matrix12d SpatialFrameStiffness(const RectSection& s, const Material& m, double length,
+                                BeamTheory t);
 Matrix12d SpatialFrameMass(const RectSection& s, const Material& m, double length, BeamTheory t,
                            MassKind kind);
 
@@ -33,8 +34,8 @@ Matrix12d SpatialFrameMass(const RectSection& s, const Material& m, double lengt
 /// [u(x); v(x); ψ(x)] = N(ξ) d_e, where ψ is the section rotation (= v' for Euler–Bernoulli).
 /// Also the 2×6 strain-displacement rows: [u'(x); κ(x)] with κ = ψ' (curvature, v'' for EB).
 struct PlanarShape {
-  Eigen::Matrix<double, 3, 6> N;       ///< u, v, ψ
-  Eigen::Matrix<double, 2, 6> B;       ///< u' [1/m·m], κ [1/m]
+  Eigen::Matrix<double, 3, 6> N;  ///< u, v, ψ
+  Eigen::Matrix<double, 2, 6> B;  ///< u' [1/m·m], κ [1/m]
 };
 PlanarShape PlanarFrameShape(const RectSection& s, const Material& m, double length, BeamTheory t,
                              double xi);

@@ -14,22 +14,23 @@
 namespace flexrod::fem {
 
 struct EigenRequest {
-  int num_modes{10};            ///< lowest-n request (used when band is not set), >= 1
-  double shift{-1.0};           ///< σ [rad²/s²]; negative keeps K − σM positive definite for K ≥ 0
+  int num_modes{10};   ///< lowest-n request (used when band is not set), >= 1
+  double shift{-1.0};  ///< σ [rad²/s²]; negative keeps K − σM positive definite for K ≥ 0
   /// Optional frequency window [Hz]: when max_hz > 0, all modes with min_hz ≤ f ≤ max_hz.
   double min_hz{0.0};
   double max_hz{0.0};
-  double tolerance{1e-10};      ///< ARPACK tol; 0 = machine precision (1e-10: same eigenvalues to 1e-14, 2-5x faster)
+  double tolerance{1e-10};  ///< ARPACK tol; 0 = machine precision (1e-10: same eigenvalues to
+                            ///< 1e-14, 2-5x faster)
   int max_iterations{1000};
-  int num_lanczos_vectors{0};   ///< ncv; 0 = automatic min(n, max(2k+1, 20))
+  int num_lanczos_vectors{0};  ///< ncv; 0 = automatic min(n, max(2k+1, 20))
 };
 
 struct EigenResult {
-  Vec eigenvalues;              ///< λ = ω² [rad²/s²], ascending
-  Mat eigenvectors;             ///< columns, M-orthonormal (xᵀ M x = 1)
+  Vec eigenvalues;   ///< λ = ω² [rad²/s²], ascending
+  Mat eigenvectors;  ///< columns, M-orthonormal (xᵀ M x = 1)
   int iterations{0};
   int num_converged{0};
-  Vec frequencies_hz() const;   ///< f = sqrt(max(λ,0)) / 2π [Hz]
+  Vec frequencies_hz() const;  ///< f = sqrt(max(λ,0)) / 2π [Hz]
 };
 
 class ArpackError : public NumericalError {

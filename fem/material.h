@@ -9,12 +9,12 @@
 namespace flexrod::fem {
 
 struct Material {
-  std::string name;        ///< "steel", "brass", "aluminium" or a user name
-  double youngs_modulus;   ///< E [Pa], > 0
-  double poisson_ratio;    ///< ν [-], in (-1, 0.5)
-  double density;          ///< ρ [kg/m^3], > 0
-  double yield_strength;   ///< σ_y [Pa], > 0
-  std::string source;      ///< where the numbers come from
+  std::string name;       ///< "steel", "brass", "aluminium" or a user name
+  double youngs_modulus;  ///< E [Pa], > 0
+  double poisson_ratio;   ///< ν [-], in (-1, 0.5)
+  double density;         ///< ρ [kg/m^3], > 0
+  double yield_strength;  ///< σ_y [Pa], > 0
+  std::string source;     ///< where the numbers come from
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   /// Throws InputError naming `prefix`.<field> for any invalid value.

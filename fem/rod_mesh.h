@@ -4,10 +4,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <Eigen/Dense>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "common/eigen.h"
 #include "fem/beam_element.h"
@@ -20,9 +19,9 @@ enum class MeshDim { kPlanar, kSpatial };  // 3 or 6 dofs per node
 /// and rotation (small rotations). Offsets are in the rod frame.
 struct RigidAttachment {
   std::string name;
-  int node;                     ///< FE node index
-  double mass;                  ///< [kg], >= 0
-  double inertia;               ///< rotational inertia about its own centre of mass, about z [kg m^2]
+  int node;        ///< FE node index
+  double mass;     ///< [kg], >= 0
+  double inertia;  ///< rotational inertia about its own centre of mass, about z [kg m^2]
   Eigen::Vector2d com_offset{0.0, 0.0};  ///< centre of mass relative to the node, rod frame [m]
   void Validate(const std::string& prefix) const;
 };
@@ -33,13 +32,13 @@ enum class DofFix { kFree, kFixed };
 struct RodSpec {
   Material material;
   RectSection section;
-  double length;                ///< free length [m], > 0
-  int num_elements{40};         ///< >= 1
+  double length;         ///< free length [m], > 0
+  int num_elements{40};  ///< >= 1
   BeamTheory theory{BeamTheory::kEulerBernoulli};
   MassKind mass_kind{MassKind::kConsistent};
   MeshDim dim{MeshDim::kPlanar};
   std::vector<RigidAttachment> attachments;
-  void Validate() const;        ///< throws InputError naming rod.<key>
+  void Validate() const;  ///< throws InputError naming rod.<key>
 
   int num_nodes() const { return num_elements + 1; }
   int dofs_per_node() const { return dim == MeshDim::kPlanar ? 3 : 6; }
@@ -50,9 +49,9 @@ struct RodSpec {
 
 /// Assembled sparse matrices over all node dofs (no boundary conditions applied).
 struct AssembledRod {
-  SpMat K;    ///< stiffness [N/m, N, N m]
-  SpMat M;    ///< mass incl. attachments [kg, kg m, kg m^2]
-  SpMat Kg;   ///< geometric stiffness per newton of axial tension (planar only; empty otherwise)
+  SpMat K;   ///< stiffness [N/m, N, N m]
+  SpMat M;   ///< mass incl. attachments [kg, kg m, kg m^2]
+  SpMat Kg;  ///< geometric stiffness per newton of axial tension (planar only; empty otherwise)
 };
 
 AssembledRod AssembleRod(const RodSpec& spec);

@@ -15,11 +15,11 @@ BendingAxis BendingAxisFromString(const std::string& key, const std::string& val
 const char* ToString(BendingAxis axis);
 
 struct RectSection {
-  double thickness;                         ///< t [m], > 0
-  double height;                            ///< h [m], > 0
+  double thickness;  ///< t [m], > 0
+  double height;     ///< h [m], > 0
   BendingAxis in_plane{BendingAxis::kWeak};
 
-  double area() const { return thickness * height; }                 ///< A [m^2]
+  double area() const { return thickness * height; }  ///< A [m^2]
   /// Second moment for bending in the mechanism plane (local y-deflection) [m^4].
   double inertia_in_plane() const;
   /// Second moment for bending out of the plane (local z-deflection) [m^4].

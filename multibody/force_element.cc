@@ -72,8 +72,8 @@ bool RotationalSpringDamper::Evaluate(double /*t*/, const MarkerKinematics& i,
   return true;
 }
 
-double RotationalSpringDamper::PotentialEnergy(const MarkerKinematics& i,
-                                               const MarkerKinematics& j, const double* /*z*/,
+double RotationalSpringDamper::PotentialEnergy(const MarkerKinematics& i, const MarkerKinematics& j,
+                                               const double* /*z*/,
                                                const double* /*memory*/) const {
   const double delta = j.angle - i.angle - free_angle_;
   return 0.5 * stiffness_ * delta * delta;
@@ -81,7 +81,8 @@ double RotationalSpringDamper::PotentialEnergy(const MarkerKinematics& i,
 
 PrismaticGuide::PrismaticGuide(const std::string& key, const Vec2& axis, double damping,
                                double friction_force, double regularisation_speed)
-    : damping_(damping), friction_force_(friction_force),
+    : damping_(damping),
+      friction_force_(friction_force),
       regularisation_speed_(regularisation_speed) {
   Require(axis.norm() > 0.0, key + ".axis", axis.norm(), "must be a non-zero vector");
   axis_ = axis.normalized();
@@ -98,8 +99,7 @@ bool PrismaticGuide::Evaluate(double /*t*/, const MarkerKinematics& i, const Mar
   const Vec2 d = j.position - i.position;
   // Sliding speed of point j relative to the material point of body i under it.
   const double slide = u.dot(j.velocity - i.velocity) - i.angular_velocity * Cross(d, u);
-  const double f =
-      damping_ * slide + friction_force_ * std::tanh(slide / regularisation_speed_);
+  const double f = damping_ * slide + friction_force_ * std::tanh(slide / regularisation_speed_);
   out->force_j = -f * u;
   out->force_i = f * u;
   out->moment_i = f * Cross(d, u);  // reaction acts at p_j, moved to marker i

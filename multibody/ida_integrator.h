@@ -19,9 +19,9 @@ namespace flexrod::multibody {
 
 /// Compressed-sparse-column pattern of an N×N matrix.
 struct SparsityPattern {
-  int64_t size{0};                  ///< N
-  std::vector<int64_t> col_ptr;     ///< N + 1 entries
-  std::vector<int64_t> row_index;   ///< nnz entries, ascending within each column
+  int64_t size{0};                 ///< N
+  std::vector<int64_t> col_ptr;    ///< N + 1 entries
+  std::vector<int64_t> row_index;  ///< nnz entries, ascending within each column
   int64_t nnz() const { return static_cast<int64_t>(row_index.size()); }
 };
 
@@ -66,11 +66,11 @@ const char* ToString(LinearSolverKind kind);
 inline constexpr int kKluThreshold = 20;
 
 struct IntegratorOptions {
-  double rel_tol{1e-6};        ///< relative tolerance [-], in (0, 1)
-  double abs_tol{1e-8};        ///< absolute tolerance (scaled per unknown by the system) [SI]
-  double max_step{0.0};        ///< maximum step [s]; 0 = unlimited
-  double initial_step{0.0};    ///< first step [s]; 0 = IDA's estimate
-  int max_order{5};            ///< BDF order 1..5
+  double rel_tol{1e-6};              ///< relative tolerance [-], in (0, 1)
+  double abs_tol{1e-8};              ///< absolute tolerance (scaled per unknown by the system) [SI]
+  double max_step{0.0};              ///< maximum step [s]; 0 = unlimited
+  double initial_step{0.0};          ///< first step [s]; 0 = IDA's estimate
+  int max_order{5};                  ///< BDF order 1..5
   int max_nonlinear_iterations{4};   ///< Newton iterations per step (IDA default 4)
   int max_convergence_failures{10};  ///< per step (IDA default 10)
   int max_error_test_failures{10};   ///< per step (IDA default 10)
@@ -108,11 +108,11 @@ struct IntegratorStats {
   long roots_found{0};
   long reinitialisations{0};
   int last_order{0};
-  double last_step{0.0};              ///< [s]
+  double last_step{0.0};  ///< [s]
   // Zero unless IntegratorOptions::time_calls:
-  double residual_seconds{0.0};       ///< wall time inside the residual [s]
-  double jacobian_seconds{0.0};       ///< wall time inside the Jacobian (incl. sparse gather) [s]
-  double linear_solve_seconds{0.0};   ///< wall time in linear-solver setup (factor) + solve [s]
+  double residual_seconds{0.0};      ///< wall time inside the residual [s]
+  double jacobian_seconds{0.0};      ///< wall time inside the Jacobian (incl. sparse gather) [s]
+  double linear_solve_seconds{0.0};  ///< wall time in linear-solver setup (factor) + solve [s]
 };
 
 /// IDASolve gave up (error-test or convergence failures, too much accuracy requested, a
@@ -136,7 +136,7 @@ class IntegratorFailure : public NumericalError {
 enum class StepOutcome { kStep, kRoot, kStopTime, kRootStall };
 struct StepResult {
   StepOutcome outcome{StepOutcome::kStep};
-  double t{0.0};   ///< time returned by IDA (the root time for kRoot)
+  double t{0.0};  ///< time returned by IDA (the root time for kRoot)
 };
 
 /// Name of an IDA return flag ("IDA_ERR_FAIL", ...).
@@ -196,7 +196,7 @@ class IdaIntegrator {
   LinearSolverKind solver_kind_{LinearSolverKind::kDense};
   std::string last_message_;
   bool initialized_{false};
-  std::vector<double> poly_;   // (k_used + 1) × N Taylor coefficients, row j = D^j y / j!
+  std::vector<double> poly_;  // (k_used + 1) × N Taylor coefficients, row j = D^j y / j!
   int poly_order_{-1};
   double poly_tn_{0.0}, poly_t0_{0.0};
 };

@@ -18,17 +18,17 @@ namespace flexrod::multibody {
 /// (world axes), from its multipliers: generalized constraint force = −Gᵀλ. For a ground
 /// joint the force acts on the body at its frame origin (force_j, moment_j).
 struct JointReaction {
-  Vec2 force_i{0.0, 0.0};   ///< [N]
-  double moment_i{0.0};     ///< [N m]
-  Vec2 force_j{0.0, 0.0};   ///< [N]
-  double moment_j{0.0};     ///< [N m]
+  Vec2 force_i{0.0, 0.0};  ///< [N]
+  double moment_i{0.0};    ///< [N m]
+  Vec2 force_j{0.0, 0.0};  ///< [N]
+  double moment_j{0.0};    ///< [N m]
 };
 
 struct DriverState {
-  double angle{0.0};    ///< body angle θ [rad]
-  double speed{0.0};    ///< θ̇ [rad/s]
-  double torque{0.0};   ///< torque applied by the driver to the body [N m] (−λ, or the motor line)
-  double power{0.0};    ///< torque · θ̇ [W]
+  double angle{0.0};   ///< body angle θ [rad]
+  double speed{0.0};   ///< θ̇ [rad/s]
+  double torque{0.0};  ///< torque applied by the driver to the body [N m] (−λ, or the motor line)
+  double power{0.0};   ///< torque · θ̇ [W]
 };
 
 struct ElementReport {
@@ -43,14 +43,14 @@ struct ElementReport {
 /// Energy terms [J]. Balance: mechanical + dissipated − driver_work − stiffening_work is
 /// constant; balance_error is its drift from the start of the run.
 struct EnergyReport {
-  double kinetic{0.0};             ///< ½ vᵀ M v
-  double strain{0.0};              ///< ½ qᵀ K q over flexible bodies
-  double gravity{0.0};             ///< −gᵀ Σ (m R + A s) (zero at the world origin)
-  double element_potential{0.0};   ///< Σ ForceElement::PotentialEnergy
-  double dissipated_elements{0.0}; ///< ∫ element dissipation (incl. prismatic guides)
-  double dissipated_damping{0.0};  ///< ∫ q̇ᵀ D q̇
-  double driver_work{0.0};         ///< ∫ driver torque · θ̇
-  double stiffening_work{0.0};     ///< ∫ q̇ᵀ(−N(q) K_g q)
+  double kinetic{0.0};              ///< ½ vᵀ M v
+  double strain{0.0};               ///< ½ qᵀ K q over flexible bodies
+  double gravity{0.0};              ///< −gᵀ Σ (m R + A s) (zero at the world origin)
+  double element_potential{0.0};    ///< Σ ForceElement::PotentialEnergy
+  double dissipated_elements{0.0};  ///< ∫ element dissipation (incl. prismatic guides)
+  double dissipated_damping{0.0};   ///< ∫ q̇ᵀ D q̇
+  double driver_work{0.0};          ///< ∫ driver torque · θ̇
+  double stiffening_work{0.0};      ///< ∫ q̇ᵀ(−N(q) K_g q)
   double balance_error{0.0};
   double mechanical() const { return kinetic + strain + gravity + element_potential; }
   /// mechanical + dissipated − work: constant for an exact solution.
@@ -66,8 +66,8 @@ Vec2 MarkerAcceleration(const Mechanism& model, const RunData& data, MarkerId ma
 JointReaction CalcJointReaction(const Mechanism& model, const RunData& data, JointId joint,
                                 const double* y);
 DriverState CalcDriverState(const Mechanism& model, DriverId driver, const double* y);
-ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId element,
-                                double t, const double* y);
+ElementReport CalcElementReport(const Mechanism& model, RunData* data, ElementId element, double t,
+                                const double* y);
 /// One element's potential energy [J] already evaluated at the state (index −1: none).
 struct KnownPotential {
   int element{-1};

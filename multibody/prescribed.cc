@@ -59,7 +59,7 @@ PrescribedMotion::PrescribedMotion(const Mechanism& model, bool enabled)
         const Marker& slider = markers[jt.marker_j];
         if (guide.body >= 0 || !rigid(slider.body)) continue;
         const Vec2 u = Rotation(guide.angle) * jt.axis;  // guide direction (world)
-        if (u.x() != 0.0 && u.y() != 0.0) continue;       // not along a world axis
+        if (u.x() != 0.0 && u.y() != 0.0) continue;      // not along a world axis
         s.kind = Kind::kGuided;
         s.body = slider.body;
         s.cross_slot = u.y() == 0.0 ? kY : kX;

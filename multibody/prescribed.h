@@ -48,8 +48,7 @@ class PrescribedMotion {
   void StartSegment(double t) { segment_start_ = t; }
   /// The full y and ẏ at t from the reduced ones: kept entries copied; prescribed p, v from the
   /// motion (ṗ = v, v̇ = its acceleration in the current segment); the dropped μ and μ̇ zero.
-  void Expand(double t, const double* y, const double* yp, double* y_full,
-              double* yp_full) const;
+  void Expand(double t, const double* y, const double* yp, double* y_full, double* yp_full) const;
   /// The part of Expand that does not read the kept entries: prescribed p, v and their rates,
   /// the dropped μ and μ̇ zero (for a caller that has written the kept entries itself).
   void ExpandPrescribed(double t, double* y_full, double* yp_full) const;
@@ -82,7 +81,7 @@ class PrescribedMotion {
   const Mechanism& model_;
   int full_size_{0};
   std::vector<Set> sets_;
-  int num_prescribed_{0};          ///< prescribed coordinates, all sets
+  int num_prescribed_{0};  ///< prescribed coordinates, all sets
   std::vector<int> kept_unknowns_, kept_rows_;
   std::vector<int> row_to_reduced_;  ///< full row → reduced row, −1 if dropped
   double segment_start_{0.0};

@@ -110,8 +110,8 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
           "joint.restitution", restitution, "the coefficient of restitution must lie in (0, 1]");
   const fem::Material pin = JointMaterial(cfg, "joint.pin_material");
   const fem::Material bush = JointMaterial(cfg, "joint.bush_material");
-  jc.materials = {pin.youngs_modulus, pin.poisson_ratio, bush.youngs_modulus,
-                  bush.poisson_ratio, restitution};
+  jc.materials = {pin.youngs_modulus, pin.poisson_ratio, bush.youngs_modulus, bush.poisson_ratio,
+                  restitution};
   Rekeyed([&] {
     jc.materials.Validate();
     return 0;
@@ -123,8 +123,8 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
 
   // ---- normal law ----
   const std::string law = cfg.Text("joint.law");
-  const std::vector<std::string>& accepted =
-      Rekeyed([&]() -> const std::vector<std::string>& { return contact::NormalLawParameterKeys(law); });
+  const std::vector<std::string>& accepted = Rekeyed(
+      [&]() -> const std::vector<std::string>& { return contact::NormalLawParameterKeys(law); });
   // An override is given when its value is not 0 (0 = derived; this keeps a written resolved
   // input loadable as an input).
   contact::ParameterMap overrides;
@@ -144,8 +144,8 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
     RequirePositive("slider.mass", default_effective_mass);
     overrides["effective-mass"] = default_effective_mass;
   }
-  contact::ResolvedNormalLaw normal = Rekeyed(
-      [&] { return contact::ResolveNormalLaw(law, jc.materials, jc.geometry, overrides); });
+  contact::ResolvedNormalLaw normal =
+      Rekeyed([&] { return contact::ResolveNormalLaw(law, jc.materials, jc.geometry, overrides); });
   jc.normal_law = std::move(normal.law);
   for (contact::ResolvedParameter& p : normal.parameters) {
     if (p.name == "effective-mass" && derived_mass) p.source = "derived (slider.mass)";

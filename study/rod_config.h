@@ -17,6 +17,7 @@ fem::RodSpec RodFromConfig(const Config& cfg);
 fem::ReductionSpec MechanismReductionFromConfig(const Config& cfg, const fem::RodSpec& rod);
 
 /// Interface node list from "small-end", "ends" or "0,20,40" (key names the source).
-std::vector<int> InterfaceNodes(const std::string& key, const std::string& text, const fem::RodSpec& rod);
+std::vector<int> InterfaceNodes(const std::string& key, const std::string& text,
+                                const fem::RodSpec& rod);
 
 }  // namespace flexrod

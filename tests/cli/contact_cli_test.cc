@@ -79,14 +79,15 @@ TEST(ContactCli, AnApproachBelowTheDampingFloorIsWarnedAbout) {
   // the achieved restitution is the speed-independent one of 0.5 m/s.
   auto achieved = [](const std::string& extra, bool* warned) {
     const fs::path json = TempPath("floor.json");
-    const RunResult run = RunFlexrod("contact --law flores --restitution 0.5 --mass \"2.71 kg\" " + extra +
-                                     " --json " + json.string());
+    const RunResult run = RunFlexrod("contact --law flores --restitution 0.5 --mass \"2.71 kg\" " +
+                                     extra + " --json " + json.string());
     EXPECT_EQ(run.exit_code, 0) << run.output;
     std::ifstream in(json);
     const nlohmann::json j = nlohmann::json::parse(in);
     fs::remove(json);
     *warned = j.contains("warnings");
-    EXPECT_EQ(*warned, run.output.find("min-approach-velocity = 0.001 m/s") != std::string::npos) << run.output;
+    EXPECT_EQ(*warned, run.output.find("min-approach-velocity = 0.001 m/s") != std::string::npos)
+        << run.output;
     return j["achieved_restitution"].get<double>();
   };
   bool warned = false;
@@ -95,7 +96,8 @@ TEST(ContactCli, AnApproachBelowTheDampingFloorIsWarnedAbout) {
   const double floored = achieved("--velocity \"1e-4 m/s\"", &warned);
   EXPECT_TRUE(warned);
   EXPECT_GT(floored, reference + 0.3);
-  const double lowered = achieved("--velocity \"1e-4 m/s\" --min-approach-velocity \"1e-5 m/s\"", &warned);
+  const double lowered =
+      achieved("--velocity \"1e-4 m/s\" --min-approach-velocity \"1e-5 m/s\"", &warned);
   EXPECT_FALSE(warned);
   EXPECT_NEAR(lowered, reference, 1e-5);
 }
@@ -123,10 +125,13 @@ TEST(ContactCli, ParameterTheLawDoesNotTakeExitsWithCode2) {
       RunFlexrod("contact --law flores --restitution 1.5 --mass 1 --velocity 1");
   EXPECT_EQ(bad_e.exit_code, 2) << bad_e.output;
   // A pin larger than its bush: the error names the flag.
-  const RunResult big_pin = RunFlexrod("contact --law hertz --mass 1 --velocity 1 --pin-radius \"10 mm\"");
+  const RunResult big_pin =
+      RunFlexrod("contact --law hertz --mass 1 --velocity 1 --pin-radius \"10 mm\"");
   EXPECT_EQ(big_pin.exit_code, 2) << big_pin.output;
-  EXPECT_NE(big_pin.output.find("pin-radius = 0.01 m: must be < bush_radius"), std::string::npos) << big_pin.output;
-  const RunResult soft_bush = RunFlexrod("contact --law hertz --mass 1 --velocity 1 --bush-E \"-3 GPa\"");
+  EXPECT_NE(big_pin.output.find("pin-radius = 0.01 m: must be < bush_radius"), std::string::npos)
+      << big_pin.output;
+  const RunResult soft_bush =
+      RunFlexrod("contact --law hertz --mass 1 --velocity 1 --bush-E \"-3 GPa\"");
   EXPECT_EQ(soft_bush.exit_code, 2) << soft_bush.output;
   EXPECT_NE(soft_bush.output.find("bush-E = "), std::string::npos) << soft_bush.output;
 }

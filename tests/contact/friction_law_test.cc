@@ -61,17 +61,20 @@ TEST(FrictionLaw, StribeckStartsAtStaticAndEndsAtKineticPlusViscous) {
       {{"friction-coefficient", 0.2}, {"static-coefficient", 0.35}, {"viscous-coefficient", 3.0}});
   EXPECT_NEAR(CalcFrictionForce(law, 1.0, kNormal).force, -0.2 * kNormal - 3.0, 1e-9);
   // The published static limit −F_s (v → 0⁺ of sign(v)) is that of tanh(v/v_r) as v_r → 0.
-  const FrictionLaw sharp = MakeFrictionLaw(
-      "stribeck", {{"friction-coefficient", 0.2}, {"static-coefficient", 0.35}, {"viscous-coefficient", 3.0},
-                   {"regularisation-velocity", 1e-15}});
+  const FrictionLaw sharp = MakeFrictionLaw("stribeck", {{"friction-coefficient", 0.2},
+                                                         {"static-coefficient", 0.35},
+                                                         {"viscous-coefficient", 3.0},
+                                                         {"regularisation-velocity", 1e-15}});
   EXPECT_NEAR(CalcFrictionForce(sharp, 1e-12, kNormal).force, -0.35 * kNormal, 1e-6);
   // The default v_r = 1e-5 m/s: continuous through zero, within 1e-4 of the published law from
   // 5 v_r up, and the static peak (at v ≪ v_s = 1e-3 m/s) is kept.
   EXPECT_EQ(CalcFrictionForce(law, 0.0, kNormal).force, 0.0);
   for (double v : {5e-5, 2e-4, 1e-3, 0.01}) {
     const double published = -kNormal * (0.2 + 0.15 * std::exp(-(v / 1e-3) * (v / 1e-3))) - 3.0 * v;
-    EXPECT_NEAR(CalcFrictionForce(law, v, kNormal).force, published, 1e-4 * std::abs(published)) << v;
-    EXPECT_NEAR(CalcFrictionForce(law, -v, kNormal).force, -published, 1e-4 * std::abs(published)) << v;
+    EXPECT_NEAR(CalcFrictionForce(law, v, kNormal).force, published, 1e-4 * std::abs(published))
+        << v;
+    EXPECT_NEAR(CalcFrictionForce(law, -v, kNormal).force, -published, 1e-4 * std::abs(published))
+        << v;
   }
 }
 

@@ -80,7 +80,8 @@ TEST(CraigBampton, StaysAccurateOnAFineMesh) {
   const std::vector<int> free = FreeDofs(rod.num_dofs(), spec.fixed_dofs);
   EigenRequest req;
   req.num_modes = 1;
-  const double f_full = SolveEigenArpack(Restrict(A.K, free), Restrict(A.M, free), req).frequencies_hz()[0];
+  const double f_full =
+      SolveEigenArpack(Restrict(A.K, free), Restrict(A.M, free), req).frequencies_hz()[0];
   const double rel = r.frequencies_hz[0] / f_full - 1.0;
   EXPECT_GT(rel, -1e-6) << rel;  // an upper bound, up to round-off
   EXPECT_LT(rel, 5e-4) << rel;

@@ -29,8 +29,7 @@ void ExpectInputError(F f, const std::string& key) {
 
 TEST(MechanismBuilder, RejectsNonPositiveMassNamingTheBody) {
   MechanismBuilder b;
-  ExpectInputError([&] { b.AddRigidBody({"crank", -1.0, 0.1, Vec2::Zero()}); },
-                   "body[crank].mass");
+  ExpectInputError([&] { b.AddRigidBody({"crank", -1.0, 0.1, Vec2::Zero()}); }, "body[crank].mass");
 }
 
 TEST(MechanismBuilder, RejectsDuplicateNames) {
@@ -88,8 +87,11 @@ TEST(MechanismBuilder, RejectsAFlexibleBodyWithoutRod) {
 TEST(MechanismBuilder, RejectsASpeedProfileWithNonIncreasingTimes) {
   MechanismBuilder b;
   const BodyId a = b.AddRigidBody({"a", 1.0, 0.1, Vec2::Zero()});
-  ExpectInputError([&] { b.AddSpeedProfileDriver("p", a, 0.0, {0.0, 1.0, 1.0}, {1.0, 2.0, 3.0}); },
-                   "driver[p].times[2]");
+  ExpectInputError(
+      [&] {
+        b.AddSpeedProfileDriver("p", a, 0.0, {0.0, 1.0, 1.0}, {1.0, 2.0, 3.0});
+      },
+      "driver[p].times[2]");
 }
 
 TEST(MechanismBuilder, RejectsAnOverConstrainedModel) {
@@ -116,8 +118,7 @@ TEST(MechanismBuilder, RejectsNegativeSpringStiffness) {
   const BodyId a = b.AddRigidBody({"a", 1.0, 0.1, Vec2::Zero()});
   const MarkerId g = b.AddGroundMarker("g", Vec2(0.0, 0.0));
   const MarkerId m = b.AddBodyMarker(a, "a.m", Vec2(0.0, 0.0));
-  ExpectInputError([&] { b.AddSpringDamper("s", g, m, -5.0, 0.0, 0.1); },
-                   "element[s].stiffness");
+  ExpectInputError([&] { b.AddSpringDamper("s", g, m, -5.0, 0.0, 0.1); }, "element[s].stiffness");
 }
 
 TEST(Mechanism, LayoutAndVariableNamesFollowTheDocumentedOrder) {

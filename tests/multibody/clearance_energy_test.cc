@@ -29,10 +29,10 @@ using testing::RigLaw;
 
 struct BounceResult {
   double kinetic0{0.0};
-  double worst_balance{0.0};         // max |balance error| [J]
-  double dissipated{0.0};            // at the end [J]
+  double worst_balance{0.0};  // max |balance error| [J]
+  double dissipated{0.0};     // at the end [J]
   double min_friction_dissipation{0.0};
-  double max_friction_power{0.0};    // max F_t v_t (must be ≤ 0)
+  double max_friction_power{0.0};  // max F_t v_t (must be ≤ 0)
   double min_normal_dissipation{0.0};
   double max_normal_force{0.0};
   double onsets{0.0};
@@ -71,13 +71,13 @@ BounceResult Bounce(const contact::NormalLaw& law, std::optional<contact::Fricti
     res.max_normal_force = std::max(res.max_normal_force, r.normal_force);
     if (r.in_contact) ++res.samples_in_contact;
     const EnergyReport again = s.Energies();  // now with the response's potential energy
-    res.potential_memo_difference = std::max(res.potential_memo_difference,
-                                             std::abs(again.element_potential - e.element_potential));
+    res.potential_memo_difference = std::max(
+        res.potential_memo_difference, std::abs(again.element_potential - e.element_potential));
     res.max_element_potential = std::max(res.max_element_potential, e.element_potential);
   };
   // Oblique launch off-centre with spin: impacts all round the bore, then rolling/sliding.
-  res.status = Simulate(p.model, &data, PinStart(p, Vec2(0.0, 0.6 * c), Vec2(0.6, 0.1), 30.0),
-                        opt, cb);
+  res.status =
+      Simulate(p.model, &data, PinStart(p, Vec2(0.0, 0.6 * c), Vec2(0.6, 0.1), 30.0), opt, cb);
   res.onsets = data.element_memory[p.model.element(p.joint).memory_offset + kOnsetCount];
   return res;
 }
@@ -86,12 +86,12 @@ TEST(ClearanceEnergy, BalanceClosesWithDissipativeContactAndFrictionAndFrictionO
   for (const char* name : {"flores", "hybrid"}) {
     SCOPED_TRACE(name);
     const BounceResult r =
-        Bounce(RigLaw(name, 0.7), contact::MakeFrictionLaw("coulomb", {{"friction-coefficient", 0.3}}),
-               0.04);
+        Bounce(RigLaw(name, 0.7),
+               contact::MakeFrictionLaw("coulomb", {{"friction-coefficient", 0.3}}), 0.04);
     ASSERT_TRUE(r.status.ok()) << r.status.Summary();
-    EXPECT_GE(r.onsets, 5.0);                    // many impacts
-    EXPECT_GT(r.samples_in_contact, 100);        // and sustained contact
-    EXPECT_GT(r.dissipated, 0.2 * r.kinetic0);   // the contact takes a large share of the energy
+    EXPECT_GE(r.onsets, 5.0);                   // many impacts
+    EXPECT_GT(r.samples_in_contact, 100);       // and sustained contact
+    EXPECT_GT(r.dissipated, 0.2 * r.kinetic0);  // the contact takes a large share of the energy
     // Balance: |error| ≤ 1e-4 of the initial kinetic energy (rel_tol 1e-8; observed ≈ 1e-6),
     // while the contact dissipates > 0.2 of it: a bookkeeping error of 0.05 % of the
     // dissipation would show.
@@ -153,9 +153,9 @@ TEST(ClearanceEnergy, IterationJacobianInContactMatchesCentralDifferences) {
       y2(i) -= h;
       yp1(i) += cj * h;  // d/dy + cj d/dẏ in one sweep: ẏ moves with cj·Δy
       yp2(i) -= cj * h;
-      return Vec((CalcResidual(p.model, &data, t, y1, yp1) -
-                  CalcResidual(p.model, &data, t, y2, yp2)) /
-                 (2.0 * h));
+      return Vec(
+          (CalcResidual(p.model, &data, t, y1, yp1) - CalcResidual(p.model, &data, t, y2, yp2)) /
+          (2.0 * h));
     };
     const double h = step(i);
     const Vec fd = (4.0 * central(0.5 * h) - central(h)) / 3.0;

@@ -17,9 +17,7 @@
 
 namespace flexrod::multibody::testing {
 
-inline contact::ContactGeometry RigJointGeometry() {
-  return {9.525e-3, 9.025e-3, 12.7e-3};
-}
+inline contact::ContactGeometry RigJointGeometry() { return {9.525e-3, 9.025e-3, 12.7e-3}; }
 
 inline contact::ContactMaterials SteelOnSteel(double restitution) {
   return {200e9, 0.29, 200e9, 0.29, restitution};
@@ -40,8 +38,8 @@ struct PinInBush {
 
 /// Bush body fixed at the origin (ground joint), pin body free, joined by the clearance joint.
 inline PinInBush BuildPinInBush(const contact::NormalLaw& law,
-                                std::optional<contact::FrictionLaw> friction,
-                                double pin_mass = 1.0, double pin_inertia = 1e-4) {
+                                std::optional<contact::FrictionLaw> friction, double pin_mass = 1.0,
+                                double pin_inertia = 1e-4) {
   PinInBush p;
   MechanismBuilder b;
   p.bush = b.AddRigidBody({"bush", 2.0, 1e-3, Vec2::Zero()});

@@ -71,8 +71,8 @@ TEST_P(ClearanceImpact, EngineReproducesTheSingleImpactOfTheContactLayer) {
     }
     v_end = s.Marker(p.pin_centre).velocity;
   };
-  const SimulationStatus st = Simulate(p.model, &data, PinStart(p, Vec2::Zero(), speed * n, 0.0),
-                                       opt, cb);
+  const SimulationStatus st =
+      Simulate(p.model, &data, PinStart(p, Vec2::Zero(), speed * n, 0.0), opt, cb);
   ASSERT_TRUE(st.ok()) << st.Summary();
   const ElementSlot& slot = p.model.element(p.joint);
   const double* memory = data.element_memory.data() + slot.memory_offset;
@@ -94,18 +94,19 @@ TEST_P(ClearanceImpact, EngineReproducesTheSingleImpactOfTheContactLayer) {
   ::testing::Test::RecordProperty("peak_force", std::to_string(peak));
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Laws, ClearanceImpact,
-    ::testing::Values(ImpactCase{"hertz", 1.0, {}}, ImpactCase{"flores", 0.6, {}},
-                      ImpactCase{"hybrid", 0.9, {}}, ImpactCase{"elasto-plastic", 0.7, {}},
-                      ImpactCase{"maxwell", 0.8, {{"damping", 3e4}}}),
-    [](const ::testing::TestParamInfo<ImpactCase>& info) {
-      std::string name = info.param.law;
-      for (char& ch : name) {
-        if (ch == '-') ch = '_';
-      }
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Laws, ClearanceImpact,
+                         ::testing::Values(ImpactCase{"hertz", 1.0, {}},
+                                           ImpactCase{"flores", 0.6, {}},
+                                           ImpactCase{"hybrid", 0.9, {}},
+                                           ImpactCase{"elasto-plastic", 0.7, {}},
+                                           ImpactCase{"maxwell", 0.8, {{"damping", 3e4}}}),
+                         [](const ::testing::TestParamInfo<ImpactCase>& info) {
+                           std::string name = info.param.law;
+                           for (char& ch : name) {
+                             if (ch == '-') ch = '_';
+                           }
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace flexrod::multibody
@@ -133,11 +134,13 @@ TEST(SimulationCallbacks, OnStepSeesTheStepsAndEveryEventInTimeOrderWithTheSampl
     ++step_points;
     const ClearanceResponse r = CalcClearanceResponse(s, p.joint);
     onset_points += r.contact_flag && r.onset_time == s.t();
-    separation_points += was_on && !r.contact_flag && r.kinematics.penetration < 0.0 &&
-                         std::abs(r.kinematics.penetration + p.element->EventBand()) < 1e-3 * p.element->EventBand();
+    separation_points +=
+        was_on && !r.contact_flag && r.kinematics.penetration < 0.0 &&
+        std::abs(r.kinematics.penetration + p.element->EventBand()) < 1e-3 * p.element->EventBand();
     was_on = r.contact_flag;
   };
-  const SimulationStatus st = Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), Vec2(speed, 0.0), 0.0), opt, cb);
+  const SimulationStatus st =
+      Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), Vec2(speed, 0.0), 0.0), opt, cb);
   ASSERT_TRUE(st.ok()) << st.Summary();
   EXPECT_EQ(st.stats.roots_found, 2);  // onset and separation
   EXPECT_EQ(onset_points, 1);

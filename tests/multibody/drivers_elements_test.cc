@@ -40,13 +40,13 @@ struct Disc {
 };
 
 // ω(t): 0 → 30 rad/s over 0.1 s, hold to 0.3 s, down to 10 rad/s at 0.4 s, hold.
-// θ(t) = θ0 + ∫ω: 150 t², 1.5 + 30 (t − 0.1), 7.5 + 30 (t − 0.3) − 100 (t − 0.3)², 9.5 + 10 (t − 0.4).
+// θ(t) = θ0 + ∫ω: 150 t², 1.5 + 30 (t − 0.1), 7.5 + 30 (t − 0.3) − 100 (t − 0.3)², 9.5 + 10 (t −
+// 0.4).
 TEST(Drivers, SpeedProfileIsIntegratedExactlyAndItsTorqueIsInertiaTimesAcceleration) {
   const double I = 0.01, theta0 = 0.2;
   Disc d(I);
-  const DriverId drv =
-      d.builder.AddSpeedProfileDriver("profile", d.body, theta0, {0.0, 0.1, 0.3, 0.4},
-                                      {0.0, 30.0, 30.0, 10.0});
+  const DriverId drv = d.builder.AddSpeedProfileDriver(
+      "profile", d.body, theta0, {0.0, 0.1, 0.3, 0.4}, {0.0, 30.0, 30.0, 10.0});
   const Mechanism m = d.builder.Build();
   RunData data(m);
   auto exact = [&](double t, double* w, double* a) {
@@ -266,7 +266,7 @@ TEST(JointReactions, HorizontalBarReleasedFromRestLoadsItsPinWithAQuarterOfItsWe
   UpdateKinematics(m, &data, s.y.data());
   const JointReaction r = CalcJointReaction(m, data, joint, s.y.data());
   EXPECT_NEAR(r.force_j.x(), 0.0, 1e-12);
-  EXPECT_NEAR(r.force_j.y(), 0.25 * mass * g, 1e-12);  // on the bar
+  EXPECT_NEAR(r.force_j.y(), 0.25 * mass * g, 1e-12);   // on the bar
   EXPECT_NEAR(r.force_i.y(), -0.25 * mass * g, 1e-12);  // on the ground
   EXPECT_NEAR(s.yp(m.num_coordinates() + m.coordinate(bar, kTheta)), -1.5 * g / L, 1e-12);
 }
@@ -292,7 +292,8 @@ TEST(JointReactions, GroundAndWeldJointsCarryWeightAndMoment) {
   const ConsistentState s = ComputeConsistentState(m, &data, 0.0, ic);
   UpdateKinematics(m, &data, s.y.data());
   auto rot = [](double a, const Vec2& v) {
-    return Vec2(std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y());
+    return Vec2(std::cos(a) * v.x() - std::sin(a) * v.y(),
+                std::sin(a) * v.x() + std::cos(a) * v.y());
   };
   // Ground joint: force on the body at its frame origin = +m g up; moment = −(A c) × F_g.
   const JointReaction rg = CalcJointReaction(m, data, gj, s.y.data());

@@ -121,8 +121,8 @@ TEST(FlexibleRod, StaticEquilibriumStartDeflectsACantileverByQL4Over8EI) {
   opt.sample_rate = 5000.0;
   const fem::RodSpec& rs = rod->rod;
   const double q = rs.material.density * rs.section.area() * g;
-  const double w_exact = q * std::pow(L, 4) / (8.0 * rs.material.youngs_modulus *
-                                               rs.section.inertia_in_plane());
+  const double w_exact =
+      q * std::pow(L, 4) / (8.0 * rs.material.youngs_modulus * rs.section.inertia_in_plane());
   double tip_first = 0.0, tip_motion = 0.0, max_qdot = 0.0;
   bool first = true;
   SimulationCallbacks cb;
@@ -165,7 +165,9 @@ TEST(FlexibleRod, UndeformedStartOfALoadedCantileverVibrates) {
   opt.sample_rate = 5000.0;
   double lowest = 0.0;
   SimulationCallbacks cb;
-  cb.on_sample = [&](const SampleView& s) { lowest = std::min(lowest, s.Marker(tip).position.y()); };
+  cb.on_sample = [&](const SampleView& s) {
+    lowest = std::min(lowest, s.Marker(tip).position.y());
+  };
   const SimulationStatus st = Simulate(m, &data, InitialConditionSpec{}, opt, cb);
   ASSERT_TRUE(st.ok()) << st.Summary();
   EXPECT_LT(lowest, -1e-5);  // the tip falls (and overshoots the static deflection)

@@ -6,6 +6,8 @@
 // motion at a large offset; bad options are rejected.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
+#include "multibody/ida_integrator.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,7 +18,6 @@
 #include <vector>
 
 #include "common/error.h"
-#include "multibody/ida_integrator.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -209,8 +210,8 @@ TEST(IdaIntegrator, ARelativeToleranceCapResolvesASmallMotionAtALargeOffset) {
   long steps_plain = 0, steps_capped = 0;
   const double plain = worst_error(std::numeric_limits<double>::infinity(), &steps_plain);
   const double capped = worst_error(kAmplitude, &steps_capped);
-  std::printf("offset motion: error / amplitude %.3g plain (%ld steps), %.3g capped (%ld steps)\n", plain,
-              steps_plain, capped, steps_capped);
+  std::printf("offset motion: error / amplitude %.3g plain (%ld steps), %.3g capped (%ld steps)\n",
+              plain, steps_plain, capped, steps_capped);
   EXPECT_GT(plain, 1e-4);
   EXPECT_LT(capped, 5e-5);  // observed 5.75e-3 plain, 1.13e-5 capped
   EXPECT_GT(steps_capped, steps_plain);

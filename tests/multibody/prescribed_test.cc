@@ -9,17 +9,17 @@
 // the slider (held).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
+#include "multibody/prescribed.h"
+
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include <Eigen/Geometry>
-
 #include "mb_test_util.h"
 #include "multibody/dae.h"
-#include "multibody/prescribed.h"
 #include "multibody/simulate.h"
 
 namespace flexrod::multibody {
@@ -70,13 +70,15 @@ Rig BuildRig() {
   r.guide = b.AddPrismatic(ps);
   b.AddGroundJoint("frame", r.frame, Vec2(0.3, 0.05), 0.2);
   b.AddSpringDamper("spring", anchor, journal, 200.0, 1.0, 0.05);
-  r.driver = b.AddSpeedProfileDriver("motor", r.crank, kTheta0, {0.0, 0.05, 0.2}, {10.0, 40.0, 25.0});
+  r.driver =
+      b.AddSpeedProfileDriver("motor", r.crank, kTheta0, {0.0, 0.05, 0.2}, {10.0, 40.0, 25.0});
   r.model = b.Build();
 
   // Assembled pose at θ0 (the consistent-state Newton starts from a perturbed copy).
   const Vec2 R_crank = kPivot - Rotate(kTheta0, kCrankPivotMarker);
   const Vec2 pin = R_crank + Rotate(kTheta0, kCrankPin);
-  const Vec2 j(pin.x() + std::sqrt(kRodLength * kRodLength - std::pow(kGuideY - pin.y(), 2)), kGuideY);
+  const Vec2 j(pin.x() + std::sqrt(kRodLength * kRodLength - std::pow(kGuideY - pin.y(), 2)),
+               kGuideY);
   const double phi = std::atan2(j.y() - pin.y(), j.x() - pin.x());
   Vec p = Vec::Zero(r.model.num_coordinates());
   SetBodyPose(r.model, r.crank, R_crank, kTheta0, &p);
@@ -207,7 +209,8 @@ TEST(PrescribedMotion, ReducedJacobianMatchesFiniteDifferencesOfTheReducedResidu
       (of_yp ? yp2 : y2)(i) -= h;
       return Vec((residual(y1, yp1) - residual(y2, yp2)) / (2.0 * h));
     };
-    const double h = 1e-4 * std::max(1.0, std::abs(y(i))), hp = 1e-4 * std::max(1.0, std::abs(yp(i)));
+    const double h = 1e-4 * std::max(1.0, std::abs(y(i))),
+                 hp = 1e-4 * std::max(1.0, std::abs(yp(i)));
     Jfd.col(i) = (4.0 * central(0.5 * h, false) - central(h, false)) / 3.0 +
                  cj * (4.0 * central(0.5 * hp, true) - central(hp, true)) / 3.0;
   }
@@ -284,9 +287,10 @@ TEST(PrescribedMotion, ReducedAndFullDaeGiveTheSameMotionReactionsAndEnergy) {
   EXPECT_LE(MaxRelDiff(reduced.guide, full.guide), 1e-5);
   // The energy balance (driver work from the kept λ of the driver) closes in both.
   for (const Trace* t : {&full, &reduced}) {
-    EXPECT_LE(std::abs(*std::max_element(t->energy_error.begin(), t->energy_error.end(),
-                                         [](double u, double v) { return std::abs(u) < std::abs(v); })),
-              1e-6);
+    EXPECT_LE(
+        std::abs(*std::max_element(t->energy_error.begin(), t->energy_error.end(),
+                                   [](double u, double v) { return std::abs(u) < std::abs(v); })),
+        1e-6);
   }
 }
 

@@ -21,7 +21,7 @@ using testing::SliderCrankGuess;
 using testing::SliderCrankParams;
 
 struct KinematicErrors {
-  double x{0.0}, xd{0.0}, xdd{0.0};        // max |error|
+  double x{0.0}, xd{0.0}, xdd{0.0};              // max |error|
   double x_ref{0.0}, xd_ref{0.0}, xdd_ref{0.0};  // max |exact|
   long samples{0};
 };

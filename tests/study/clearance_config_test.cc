@@ -125,8 +125,8 @@ TEST(ClearanceConfig, BadInputNamesTheJointKey) {
   ExpectInputError(resolve({"joint.restitution=0"}), "joint.restitution");
   ExpectInputError(resolve({"joint.restitution=1.2"}), "joint.restitution");
   // A parameter the law does not take: contact's ParameterMap validation, re-keyed.
-  const std::string rule = ExpectInputError(resolve({"joint.law=hertz", "joint.damping=5 N s/m"}),
-                                            "joint.damping");
+  const std::string rule =
+      ExpectInputError(resolve({"joint.law=hertz", "joint.damping=5 N s/m"}), "joint.damping");
   EXPECT_NE(rule.find("does not take"), std::string::npos) << rule;
   // Hertz is elastic: a restitution given to it is refused; its default (a resolved input
   // lists it) is not.
@@ -149,8 +149,8 @@ TEST(ClearanceConfig, ResolvedInputLoadsBackToTheSameJoint) {
   for (const char* law : {"hybrid", "hertz", "kelvin-voigt", "esdu-78035"}) {
     for (const char* friction : {"coulomb", "none"}) {
       SCOPED_TRACE(std::string(law) + " + " + friction);
-      const Config cfg = Rigid({std::string("joint.law=") + law,
-                                std::string("joint.friction_law=") + friction});
+      const Config cfg =
+          Rigid({std::string("joint.law=") + law, std::string("joint.friction_law=") + friction});
       Config back;
       for (const Config::Resolved& r : cfg.Resolve()) back.Set(r.key, r.value);
       const ClearanceJointConfig a = ResolveClearanceJoint(cfg, 1.02);

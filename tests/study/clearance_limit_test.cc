@@ -24,8 +24,8 @@ namespace flexrod {
 namespace {
 
 struct LimitResult {
-  double rms_rel{0.0};   // RMS(a − a_ideal) / RMS(a_ideal) over the capture
-  double max_rel{0.0};   // max|a − a_ideal| / max|a_ideal|
+  double rms_rel{0.0};  // RMS(a − a_ideal) / RMS(a_ideal) over the capture
+  double max_rel{0.0};  // max|a − a_ideal| / max|a_ideal|
   double max_penetration{0.0};
   bool ok{false};
 };
@@ -62,10 +62,12 @@ LimitResult RunLimit(const std::string& clearance) {
   }
   r.rms_rel = std::sqrt(se / si);
   r.max_rel = me / mi;
-  for (double d : run.channels.values("penetration")) r.max_penetration = std::max(r.max_penetration, d);
-  std::printf("clearance %s: slider acceleration vs ideal: RMS diff %.4f, max diff %.4f of peak; "
-              "max penetration %.3g m\n",
-              clearance.c_str(), r.rms_rel, r.max_rel, r.max_penetration);
+  for (double d : run.channels.values("penetration"))
+    r.max_penetration = std::max(r.max_penetration, d);
+  std::printf(
+      "clearance %s: slider acceleration vs ideal: RMS diff %.4f, max diff %.4f of peak; "
+      "max penetration %.3g m\n",
+      clearance.c_str(), r.rms_rel, r.max_rel, r.max_penetration);
   return r;
 }
 

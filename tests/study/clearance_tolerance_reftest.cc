@@ -37,9 +37,11 @@ std::vector<study::Impact> BouncingStart(const std::string& rel_tol) {
 TEST(ClearanceTolerance, TheDefaultToleranceResolvesTheBouncingSequenceOfTheConvergedRun) {
   const std::vector<study::Impact> run = BouncingStart("");
   const std::vector<study::Impact> ref = BouncingStart("1e-8");
-  std::printf("first 0.3 s: %zu impacts at the default tolerance, %zu at rel_tol 1e-8\n", run.size(), ref.size());
+  std::printf("first 0.3 s: %zu impacts at the default tolerance, %zu at rel_tol 1e-8\n",
+              run.size(), ref.size());
   // Every logged onset approaches the wall: no tolerance-level crossings of the event band.
-  for (const study::Impact& im : run) EXPECT_GT(im.approach_velocity, 0.0) << "impact at t = " << im.time << " s";
+  for (const study::Impact& im : run)
+    EXPECT_GT(im.approach_velocity, 0.0) << "impact at t = " << im.time << " s";
   // The sequence ends within a couple of micro-touches of the converged one (observed 28 vs 27).
   EXPECT_LE(std::abs(static_cast<long>(run.size()) - static_cast<long>(ref.size())), 2);
   // The impacts faster than 1 cm/s match one to one (observed: 18 each; onset within 2.4e-5 s,

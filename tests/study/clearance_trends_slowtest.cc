@@ -1,10 +1,10 @@
 // tests/study/clearance_trends_slowtest.cc — the thesis's friction × clearance study on the rigid
 // rig (RIG.md §1, section 3.4, Fig. 39): preset rigid-rig with joint.type = clearance (hybrid
 // law, restitution 0.9, Coulomb friction), clearance 0.5 vs 1.0 mm × joint friction 0.2 vs 0.6,
-// at 101 and 177 rpm, 0.5 s settling then 4 revolutions, integrator tolerances 1e-8/1e-10. Per revolution the peak |slider
-// acceleration| is taken (study/signals.h SplitRevolutions), and its median over the
-// revolutions is the measure (the thesis judged single peaks too scattered). Trends to
-// reproduce (RIG.md §1 conclusions): the amplification grows with clearance and with joint
+// at 101 and 177 rpm, 0.5 s settling then 4 revolutions, integrator tolerances 1e-8/1e-10. Per
+// revolution the peak |slider acceleration| is taken (study/signals.h SplitRevolutions), and its
+// median over the revolutions is the measure (the thesis judged single peaks too scattered). Trends
+// to reproduce (RIG.md §1 conclusions): the amplification grows with clearance and with joint
 // friction. The test asserts both orders at both speeds, checks the impact log of each run is
 // consistent with its channels, and prints every number (median, max, amplification over the
 // ideal twin, impacts per revolution, wall time) for the lead to quote.
@@ -29,11 +29,11 @@ namespace flexrod {
 namespace {
 
 struct TrendPoint {
-  double median_peak{0.0};     // median over revolutions of the per-revolution peak |a| [m/s²]
-  double max_peak{0.0};        // [m/s²]
-  double ideal_peak{0.0};      // ideal twin, max |a| [m/s²]
+  double median_peak{0.0};  // median over revolutions of the per-revolution peak |a| [m/s²]
+  double max_peak{0.0};     // [m/s²]
+  double ideal_peak{0.0};   // ideal twin, max |a| [m/s²]
   double impacts_per_rev{0.0};
-  double wall{0.0};            // [s]
+  double wall{0.0};  // [s]
   std::size_t revolutions{0};
 };
 
@@ -58,20 +58,23 @@ TrendPoint RunPoint(const std::string& rpm, const std::string& clearance, const 
   p.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_TRUE(run.ok()) << run.status.Summary();
   const study::PeakStatistics peaks =
-      study::CalcSignalSummary(run.channels, "slider_acceleration", "crank_angle", 0.0, run.channels.all())
+      study::CalcSignalSummary(run.channels, "slider_acceleration", "crank_angle", 0.0,
+                               run.channels.all())
           .magnitude;  // per-revolution peaks of |a|
   p.revolutions = peaks.num_revolutions;
   if (p.revolutions == 0) return p;
   p.median_peak = peaks.median;
   p.max_peak = peaks.max;
   if (run.ideal) {
-    for (double v : run.ideal->values("slider_acceleration")) p.ideal_peak = std::max(p.ideal_peak, std::abs(v));
+    for (double v : run.ideal->values("slider_acceleration"))
+      p.ideal_peak = std::max(p.ideal_peak, std::abs(v));
   }
   // The impact log sees every sample as well as the integrator's points between them.
   const std::vector<study::Impact>& log = run.impacts;
   const study::ImpactStatistics st = study::CalcImpactStatistics(log);
   double channel_peak = 0.0;
-  for (double f : run.channels.values("contact_normal_force")) channel_peak = std::max(channel_peak, f);
+  for (double f : run.channels.values("contact_normal_force"))
+    channel_peak = std::max(channel_peak, f);
   EXPECT_FALSE(log.empty());  // a run-long sliding contact is one incomplete entry
   double log_peak = 0.0;
   for (const study::Impact& im : log) log_peak = std::max(log_peak, im.peak_force);
@@ -95,9 +98,10 @@ TEST(ClearanceTrends, AmplificationGrowsWithClearanceAndWithJointFriction) {
       for (const std::string mu : {"0.2", "0.6"}) {
         const TrendPoint p = RunPoint(rpm, c, mu);
         r[c + "/" + mu] = p;
-        std::printf("%8s %10s %6s %12.1f %12.1f %12.2f %10.1f %9.1f %8.2f\n", rpm.c_str(), c.c_str(),
-                    mu.c_str(), p.median_peak, p.max_peak, p.ideal_peak,
-                    p.ideal_peak > 0 ? p.median_peak / p.ideal_peak : NAN, p.impacts_per_rev, p.wall);
+        std::printf("%8s %10s %6s %12.1f %12.1f %12.2f %10.1f %9.1f %8.2f\n", rpm.c_str(),
+                    c.c_str(), mu.c_str(), p.median_peak, p.max_peak, p.ideal_peak,
+                    p.ideal_peak > 0 ? p.median_peak / p.ideal_peak : NAN, p.impacts_per_rev,
+                    p.wall);
         EXPECT_GE(p.revolutions, 3u);
       }
     }

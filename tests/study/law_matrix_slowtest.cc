@@ -39,7 +39,9 @@ TEST(LawMatrix, EveryLawPairOnBothRigsKeepsThePinOutOfTheBushAndClosesItsEnergyB
         double deepest = 0.0;
         for (double d : r.channels.values("penetration")) deepest = std::max(deepest, d);
         EXPECT_LT(deepest, 5e-5);  // loaded contacts: micrometres; through the bush: millimetres
-        EXPECT_GE(r.summary["impacts"]["count"].get<int>() + r.summary["impacts"]["incomplete"].get<int>(), 1);
+        EXPECT_GE(r.summary["impacts"]["count"].get<int>() +
+                      r.summary["impacts"]["incomplete"].get<int>(),
+                  1);
         // Standard linear solid: the free wall's relaxation energy leaves the balance at each
         // onset (multibody/clearance_joint.h), so its bound is looser.
         const double balance = r.summary["energy"]["relative_balance_error"].get<double>();

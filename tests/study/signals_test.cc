@@ -184,8 +184,10 @@ TEST(IndexCrossings, ARecordStartingOnTheIndexHasItsFirstCrossingAtTheStart) {
     const PoincareMap map = CalcPoincareMap(ts, "crank_angle", index, {"x"}, ts.all());
     ASSERT_EQ(map.num_points(), 6u) << offset;
     for (std::size_t k = 0; k < map.num_points(); ++k) {
-      EXPECT_NEAR(map.time[k], start + (100.0 * static_cast<double>(k) - offset) / rate, 1e-12) << offset;
-      EXPECT_NEAR(map.points(static_cast<Eigen::Index>(k), 0), 5.0 + 200.0 * static_cast<double>(k), 1e-9)
+      EXPECT_NEAR(map.time[k], start + (100.0 * static_cast<double>(k) - offset) / rate, 1e-12)
+          << offset;
+      EXPECT_NEAR(map.points(static_cast<Eigen::Index>(k), 0), 5.0 + 200.0 * static_cast<double>(k),
+                  1e-9)
           << offset;
     }
   }

@@ -92,7 +92,8 @@ void ExpectSameChannels(const study::TimeSeries& a, const study::TimeSeries& b) 
   EXPECT_EQ(a.start_time(), b.start_time());
   for (std::size_t c = 0; c < a.channels().size(); ++c) {
     EXPECT_EQ(a.channels()[c].name, b.channels()[c].name);
-    EXPECT_EQ(a.channels()[c].values, b.channels()[c].values) << a.channels()[c].name;  // bit for bit
+    EXPECT_EQ(a.channels()[c].values, b.channels()[c].values)
+        << a.channels()[c].name;  // bit for bit
   }
 }
 
