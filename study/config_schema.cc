@@ -7,11 +7,20 @@
 #include <utility>
 
 #include "common/error.h"
+#include "contact/friction_law.h"
+#include "contact/normal_law.h"
 #include "study/config.h"
 
 namespace flexrod {
 
 namespace {
+
+/// "none" (no friction) followed by the friction laws of contact/.
+std::vector<std::string> WithNone(const std::vector<std::string>& laws) {
+  std::vector<std::string> v{"none"};
+  v.insert(v.end(), laws.begin(), laws.end());
+  return v;
+}
 
 /// The keys whose admissible values are a plain interval (ValueRange), set on the schema.
 /// Rules that involve other keys (a clearance below the bush radius, a probe on the rod) stay
@@ -232,26 +241,17 @@ const std::vector<ParamDef>& Schema() {
        "12.7 mm",
        "axial length of the pin-bush line contact [m], > 0 (assumed: 1/2 in)",
        {}},
-      {"joint.law",
-       K::kChoice,
-       D::kDimensionless,
-       "hybrid",
+      {"joint.law", K::kChoice, D::kDimensionless, "hybrid",
        "normal contact law (reference/contact-models.md; hybrid = thesis eq. 29)",
-       {"linear-spring", "kelvin-voigt", "maxwell", "standard-linear-solid", "hertz",
-        "lankarani-nikravesh", "hunt-crossley", "flores", "gonthier", "impact", "esdu-78035",
-        "johnson", "dubowsky-freudenstein", "pereira", "elasto-plastic", "hybrid"}},
+       contact::NormalLawNames()},  // a new law in contact/ is a choice here by itself
       {"joint.restitution",
        K::kQuantity,
        D::kDimensionless,
        "0.9",
        "coefficient of restitution [-], in (0, 1] (assumed; thesis used up to 0.995)",
        {}},
-      {"joint.friction_law",
-       K::kChoice,
-       D::kDimensionless,
-       "coulomb",
-       "joint friction law (none = frictionless)",
-       {"none", "coulomb", "threlfall", "stribeck", "lugre"}},
+      {"joint.friction_law", K::kChoice, D::kDimensionless, "coulomb",
+       "joint friction law (none = frictionless)", WithNone(contact::FrictionLawNames())},
       {"joint.friction",
        K::kQuantity,
        D::kDimensionless,
