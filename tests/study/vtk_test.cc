@@ -351,13 +351,21 @@ std::vector<double> Numbers(const std::string& text) {
   return v;
 }
 
-/// Body of the DataArray named `name` (first match), or "" if absent.
+/// Body of the DataArray named `name` (first match), or "" if absent. Plain string search:
+/// libstdc++'s std::regex recurses once per character of a match, and a body of a few hundred
+/// kB overflowed the stack under AddressSanitizer.
 std::string ArrayBody(const std::string& xml, const std::string& name) {
-  const std::regex re("<DataArray[^>]*Name=\"" +
-                      std::regex_replace(name, std::regex(R"([\[\]])"), R"(\$&)") +
-                      "\"[^>]*>([^<]*)</DataArray>");
-  std::smatch m;
-  return std::regex_search(xml, m, re) ? m[1].str() : std::string();
+  for (std::size_t tag = xml.find("<DataArray"); tag != std::string::npos;
+       tag = xml.find("<DataArray", tag + 1)) {
+    const std::size_t open_end = xml.find('>', tag);
+    if (open_end == std::string::npos) break;
+    if (xml.substr(tag, open_end - tag).find("Name=\"" + name + "\"") == std::string::npos)
+      continue;
+    const std::size_t close = xml.find("</DataArray>", open_end);
+    return close == std::string::npos ? std::string()
+                                      : xml.substr(open_end + 1, close - open_end - 1);
+  }
+  return std::string();
 }
 
 long Attribute(const std::string& xml, const std::string& attr) {
