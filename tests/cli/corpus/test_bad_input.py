@@ -37,7 +37,10 @@ HERE = pathlib.Path(__file__).resolve().parent
 BINARY = os.environ.get("FLEXROD_BINARY") or "/work/main/build/flexrod"
 SOURCE_DIR = pathlib.Path(os.environ.get("FLEXROD_SOURCE_DIR") or HERE.parents[2])
 TIMEOUT = 60  # seconds per case
-MEMORY = 4 << 30  # address-space limit of each flexrod process [bytes] (a shared machine)
+# Address-space limit of each flexrod process [bytes] (a shared machine); none for a binary
+# built with AddressSanitizer (scripts/sanitize.sh sets ASAN_OPTIONS), which reserves terabytes
+# of shadow address space at start-up.
+MEMORY = None if "ASAN_OPTIONS" in os.environ else 4 << 30
 
 # Placeholders in argv, expected substrings and file contents: {tmp} the case's directory,
 # {src} the source tree. As the content of an input file: STORE a small sweep store, RUNH5 the
@@ -913,7 +916,8 @@ def _wait_for_binary(limit=180.0):
 
 
 def _limit_memory():
-    resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+    if MEMORY:
+        resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
 
 
 def _exec(argv, cwd, timeout=TIMEOUT):
