@@ -568,7 +568,9 @@ NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
     return GonthierLaw{Hysteresis(r, c, k, n, GonthierFactor)};
   }
   if (name == "impact") {
-    auto [k, n] = HertzStiffnessExponent(r, c);
+    // Named, not a structured binding: clang 14 (the fuzz build) refuses to capture one.
+    const std::pair<double, double> kn = HertzStiffnessExponent(r, c);
+    const double k = kn.first, n = kn.second;
     const double dmax = r.Get(
         "damping-penetration", "m", [] { return kDefaultImpactDampingPenetration; }, "default");
     const double e = Restitution(r, c);
