@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "study/toml_value.h"
 
 namespace flexrod {
 
@@ -78,36 +79,6 @@ void CheckValue(const ParamDef& p, const std::string& text) {
   }
 }
 
-/// The value as the TOML file wrote it, for messages.
-std::string TomlText(const toml::node& node) {
-  std::ostringstream os;
-  node.visit([&os](const auto& n) { os << n; });
-  return os.str();
-}
-
-std::string NodeText(const toml::node& node, const std::string& key) {
-  if (auto s = node.as_string()) return s->get();
-  if (auto i = node.as_integer()) return std::to_string(i->get());
-  if (auto d = node.as_floating_point()) {
-    std::ostringstream os;
-    os.precision(17);
-    os << d->get();
-    return os.str();
-  }
-  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
-  if (auto a = node.as_array()) {
-    // Only the comma-list keys (text) take an array; for any other key a one-element array
-    // would otherwise pass as its scalar.
-    const ParamDef* p = FindParam(key);
-    if (p && p->kind != ParamKind::kText)
-      throw InputError(key, TomlText(node), "must be a single value, not an array");
-    std::string s;
-    for (size_t i = 0; i < a->size(); ++i) s += (i ? "," : "") + NodeText(*a->get(i), key);
-    return s;
-  }
-  throw InputError(key, TomlText(node), "must be a number, string, boolean or array");
-}
-
 void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
   for (const auto& [k, v] : t) {
     const std::string key =
@@ -115,7 +86,7 @@ void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
     if (const toml::table* sub = v.as_table()) {
       Flatten(*sub, key, cfg);
     } else {
-      cfg->Set(key, NodeText(v, key));
+      cfg->Set(key, ValueText(v, key));
     }
   }
 }
@@ -165,26 +136,6 @@ std::vector<std::string> SplitUserList(const std::string& key, const std::string
   return out;
 }
 
-std::string MalformedTomlRule(const std::string& description, const std::string& toml_text,
-                              std::size_t line, std::size_t column) {
-  std::string what = description;
-  const std::size_t open = what.find('\''), close = what.rfind('\'');
-  if (what.find("cannot redefine existing") != std::string::npos && open < close) {
-    std::istringstream in(toml_text);
-    std::string source;
-    for (std::size_t i = 0; i < line && std::getline(in, source);) ++i;
-    std::string key = source.substr(0, source.find('='));
-    key.erase(std::remove(key.begin(), key.end(), '['), key.end());
-    key.erase(std::remove(key.begin(), key.end(), ']'), key.end());
-    const std::size_t b = key.find_first_not_of(" \t");
-    if (b != std::string::npos)
-      what = what.substr(0, open + 1) + key.substr(b, key.find_last_not_of(" \t") - b + 1) +
-             what.substr(close);
-  }
-  return "malformed TOML: " + what + " at line " + std::to_string(line) + ", column " +
-         std::to_string(column);
-}
-
 void Config::Set(const std::string& key, const std::string& text) {
   const ParamDef& p = Lookup(key, text);
   CheckValue(p, text);
@@ -205,15 +156,7 @@ void Config::SetAssignment(const std::string& assignment) {
 }
 
 void Config::LoadToml(const std::string& toml_text, const std::string& origin) {
-  toml::table t;
-  try {
-    t = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    throw InputError(origin, "(file)",
-                     MalformedTomlRule(std::string(e.description()), toml_text,
-                                       e.source().begin.line, e.source().begin.column));
-  }
-  Flatten(t, "", this);
+  Flatten(ParseToml(toml_text, origin, "(file)"), "", this);
 }
 
 void Config::LoadTomlFile(const std::string& path) {

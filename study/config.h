@@ -61,12 +61,6 @@ std::vector<std::string> SplitList(const std::string& text);
 /// is an InputError naming the key, the value and the rule.
 std::vector<std::string> SplitUserList(const std::string& key, const std::string& text);
 
-/// "malformed TOML: <description> at line L, column C" for a toml++ parse error in
-/// `toml_text`. toml++ garbles a quoted key in "cannot redefine existing ... '<key>'" (its
-/// first characters doubled); the key is taken from the source line instead.
-std::string MalformedTomlRule(const std::string& description, const std::string& toml_text,
-                              std::size_t line, std::size_t column);
-
 class Config {
  public:
   /// Sets a key from text. Throws InputError for unknown keys or values that do not parse.

@@ -49,6 +49,10 @@ struct RunResult {
 /// the value and the rule. Sweeps and studies call it for every run before any run starts.
 void CheckRunInput(const Config& cfg, const MechanismModel& mm);
 
+/// The names of the channels a run of `mm` records (RunResult::channels), in their order,
+/// without running it.
+std::vector<std::string> RunChannelNames(const Config& cfg, const MechanismModel& mm);
+
 /// What a clearance run's ideal-joint twin depends on: every resolved input except the
 /// small-end joint's keys (joint.*), since the twin's joint is ideal. Runs with equal keys (a
 /// study or sweep over clearance, contact law, friction, restitution, materials of the pin and

@@ -251,12 +251,7 @@ double AvailableMemory() {
 /// The record (8 B per channel and sample) must fit in half the memory available: a capture
 /// beyond it is refused before the run, naming the keys that set its size.
 void CheckRecordFitsMemory(const Config& cfg, const MechanismModel& mm, double samples) {
-  Recorder scratch;
-  nlohmann::json gauges;
-  std::optional<study::ImpactLogger> impacts;
-  if (mm.clearance.index >= 0) impacts.emplace();
-  DefineChannels(cfg, mm, &scratch, &gauges, impacts ? &*impacts : nullptr);
-  const double channels = static_cast<double>(scratch.names().size());
+  const double channels = static_cast<double>(RunChannelNames(cfg, mm).size());
   const double need = samples * channels * sizeof(double), budget = 0.5 * AvailableMemory();
   if (need <= budget) return;
   std::ostringstream rule;
@@ -269,6 +264,15 @@ void CheckRecordFitsMemory(const Config& cfg, const MechanismModel& mm, double s
 }
 
 }  // namespace
+
+std::vector<std::string> RunChannelNames(const Config& cfg, const MechanismModel& mm) {
+  Recorder scratch;
+  nlohmann::json gauges;
+  std::optional<study::ImpactLogger> impacts;
+  if (mm.clearance.index >= 0) impacts.emplace();
+  DefineChannels(cfg, mm, &scratch, &gauges, impacts ? &*impacts : nullptr);
+  return scratch.names();
+}
 
 void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
   const multibody::SimulationOptions opt = OptionsFromConfig(cfg);

@@ -19,20 +19,13 @@
 #include "common/error.h"
 #include "common/files.h"
 #include "study/run.h"
+#include "study/run_files.h"
 #include "study/slider_crank.h"
 
 namespace flexrod::study {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Probe kind: runs with the same value of these produce the same channels.
-std::string ProbeKey(const Config& cfg) {
-  std::string key = RodKey(cfg);
-  for (const char* k : {"mechanism.type", "joint.type", "drive.type", "output.gauges"})
-    key += cfg.Text(k) + ";";
-  return key;
-}
 
 std::string JoinSet(const std::set<std::string>& names) {
   std::string s;
@@ -53,8 +46,8 @@ int RodCache::num_built() const { return static_cast<int>(rods_.num_computed());
 // ---- validation and runs ----------------------------------------------------------------------
 
 void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
-  std::set<std::string> probed, available;
-  bool any_probe = false;
+  std::set<std::string> available;
+  bool any_checked = false;
   for (const SweepRun& run : matrix.runs) {
     const Config cfg = matrix.ConfigFor(run.id);
     std::shared_ptr<const fem::ReducedRod> rod;
@@ -63,21 +56,14 @@ void ValidateSweep(const SweepMatrix& matrix, RodCache* rods) {
     } catch (const NumericalError&) {
       continue;  // recorded as a failure by the runs of this rod
     }
-    CheckRunInput(cfg, BuildMechanism(cfg, rod));
-    if (!probed.insert(ProbeKey(cfg)).second) continue;
-    Config probe = cfg;
-    const double rate = cfg.Quantity("sim.sample_rate");
-    probe.Set("sim.settle", "0");
-    probe.Set("sim.capture", FormatValue(3.0 / rate));
-    probe.Set("sim.start", "rigid");
-    try {
-      const RunResult r = RunSimulation(probe, rod);
-      for (const Channel& c : r.channels.channels()) available.insert(c.name);
-      any_probe = any_probe || r.channels.num_channels() > 0;
-    } catch (const NumericalError&) {
-    }
+    const MechanismModel mm = BuildMechanism(cfg, rod);
+    CheckRunInput(cfg, mm);
+    const std::vector<std::string> names = RunChannelNames(cfg, mm);
+    (void)ReadOutputSelection(cfg, cfg.Quantity("sim.sample_rate"), &names);
+    available.insert(names.begin(), names.end());
+    any_checked = true;
   }
-  if (!any_probe) return;  // every probe failed numerically: the runs will say why
+  if (!any_checked) return;  // every rod failed numerically: the runs will say why
   for (const auto& [key, names] :
        {std::pair{"store.channels", &matrix.store.channels},
         std::pair{"store.poincare_channels", &matrix.store.poincare_channels}}) {

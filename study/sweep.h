@@ -38,11 +38,10 @@ class RodCache {
   OnceCache<std::shared_ptr<const fem::ReducedRod>> rods_;
 };
 
-/// Checks a sweep before anything is written. Every run's rod and mechanism are built (an
-/// InputError propagates; a numerical failure of a rod is left for its runs to record), and a
-/// probe of 3 samples runs once per kind of mechanism (rod, joint type, drive, gauges): an
-/// InputError it raises propagates, and every store channel must exist in some probe
-/// (InputError("store.channels", name, "... available: ...")).
+/// Checks a sweep before anything is written. Every run's rod and mechanism are built and its
+/// inputs checked (CheckRunInput, the output.* selection against its channels): an InputError
+/// propagates; a numerical failure of a rod is left for its runs to record. Every store channel
+/// must be a channel of some run (InputError("store.channels", name, "... available: ...")).
 void ValidateSweep(const SweepMatrix& matrix, RodCache* rods);
 
 /// Computes run `id` into what the store keeps, sharing rods and ideal-joint twins with the

@@ -17,6 +17,7 @@
 
 #include "common/error.h"
 #include "study/presets.h"
+#include "study/toml_value.h"
 
 namespace flexrod::study {
 namespace {
@@ -42,31 +43,6 @@ std::string JoinNames(const std::vector<std::string>& v, const char* sep = ", ")
   std::string s;
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + v[i];
   return s;
-}
-
-std::string ShortestDouble(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-/// A scalar TOML value as the text a user would type (numbers in their shortest exact form).
-std::string ScalarText(const toml::node& node, const std::string& key) {
-  if (auto s = node.as_string()) return s->get();
-  if (auto i = node.as_integer()) return std::to_string(i->get());
-  if (auto d = node.as_floating_point()) return ShortestDouble(d->get());
-  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
-  throw InputError(key, "(table, array or date)", "must be a number, string or boolean here");
-}
-
-/// Like ScalarText, but an array becomes a comma-separated list (as Config does for files).
-std::string ValueText(const toml::node& node, const std::string& key) {
-  if (auto a = node.as_array()) {
-    std::string s;
-    for (std::size_t i = 0; i < a->size(); ++i) s += (i ? "," : "") + ScalarText(*a->get(i), key);
-    return s;
-  }
-  return ScalarText(node, key);
 }
 
 const ParamDef& KnownKey(const std::string& key, const std::string& value,
@@ -162,15 +138,11 @@ void CollectAxes(const toml::table& table, const std::string& prefix, const std:
           for (const auto& [field, value] : *sub) {  // a field beyond the three, by name
             const std::string f(field.str());
             if (f != "from" && f != "to" && f != "step") {
-              std::ostringstream text;
-              value.visit([&text](const auto& n) { text << n; });
-              throw InputError(key + "." + f, text.str(),
+              throw InputError(key + "." + f, TomlText(value),
                                "unknown field of a range; a range takes from, to and step");
             }
           }
-          std::ostringstream text;
-          text << *sub;
-          throw InputError(key, text.str(),
+          throw InputError(key, TomlText(*sub),
                            "a range needs all of from, to and step (a missing step is not "
                            "guessed); or list the values");
         }
@@ -351,14 +323,7 @@ Config SweepMatrix::ConfigFor(int id) const {
 SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& origin,
                              const std::string& base_dir,
                              const std::vector<std::string>& extra_sets) {
-  toml::table doc;
-  try {
-    doc = toml::parse(toml_text, origin);
-  } catch (const toml::parse_error& e) {
-    throw InputError(origin, "(matrix file)",
-                     MalformedTomlRule(std::string(e.description()), toml_text,
-                                       e.source().begin.line, e.source().begin.column));
-  }
+  const toml::table doc = ParseToml(toml_text, origin, "(matrix file)");
   SweepMatrix m;
   m.origin = origin;
   m.source = toml_text;

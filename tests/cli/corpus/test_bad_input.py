@@ -742,6 +742,8 @@ SWEEP = [
     W("matrix-set-bad-value", RIG + '[set]\n"sim.capture" = "0 s"\n', ["sim.capture = 0"]),
     W("matrix-set-unknown-key", RIG + '[set]\n"rod.colour" = "red"\n', ["rod.colour", "red"]),
     W("matrix-set-wrong-unit", RIG + '[set]\n"rod.length" = "3 rpm"\n', ["rod.length", '"3 rpm"']),
+    W("matrix-set-one-element-array", RIG + '[set]\n"rod.material" = ["steel"]\n',
+      ["rod.material = [ 'steel' ]", "single value, not an array"]),
     W("matrix-set-section-as-key", RIG + '[set]\nrod = 5\n', ["rod = 5", "unknown input key"]),
     W("matrix-set-midspan-off-rod", '[sweep]\nbase = "flexible-rig"\n[set]\n'
                              '"output.midspan" = "0.3 m"\n',
