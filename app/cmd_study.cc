@@ -16,11 +16,11 @@
 #include "common/error.h"
 #include "common/files.h"
 #include "contact/normal_law.h"
+#include "study/mechanism_model.h"
 #include "study/presets.h"
 #include "study/reduction_study.h"
 #include "study/run.h"
 #include "study/run_files.h"
-#include "study/slider_crank.h"
 
 namespace flexrod::app {
 namespace {

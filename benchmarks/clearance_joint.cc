@@ -18,8 +18,8 @@
 #include "contact/normal_law.h"
 #include "multibody/simulate.h"
 #include "study/config.h"
+#include "study/mechanism_model.h"
 #include "study/presets.h"
-#include "study/slider_crank.h"
 
 namespace {
 

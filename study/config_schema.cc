@@ -158,13 +158,13 @@ const std::vector<ParamDef>& Schema() {
       {"reduction.axial_modes", K::kBool, D::kDimensionless, "true",
        "craig-bampton: add the two static responses to axial inertia loads, so the axial force "
        "can vary along the rod"},
-      // ---- the mechanism (slider-crank; RIG.md §1 rigid rig, §2 flexible rig) ----
+      // ---- the mechanism (study/mechanism_recipe.h; RIG.md §1 rigid rig, §2 flexible rig) ----
       {"mechanism.type",
        K::kChoice,
        D::kDimensionless,
        "slider-crank",
        "mechanism",
-       {"slider-crank", "pendulum"}},
+       {"slider-crank", "pendulum"}},  // one per recipe of study/mechanism_recipe.cc (tested)
       {"rod.type",
        K::kChoice,
        D::kDimensionless,

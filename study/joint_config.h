@@ -4,7 +4,7 @@
 // value validated with an InputError naming the joint.* key, and the resolved contact
 // parameters as (key, value, unit, source) records for the run's resolved input. What does not
 // live here: the laws (contact/), the force element (multibody/clearance_joint.h), where the
-// joint sits in the mechanism (study/slider_crank.cc).
+// joint sits in the mechanism (study/recipe_slider_crank.cc).
 //
 // Override keys joint.stiffness, joint.exponent, joint.damping, joint.effective_mass,
 // joint.working_penetration, joint.min_approach_velocity: 0 (the default) means "derived from

@@ -3,6 +3,7 @@
 
 #include "common/error.h"
 #include "multibody/mechanism_modes.h"
+#include "study/mechanism_recipe.h"
 
 namespace flexrod {
 
@@ -17,9 +18,7 @@ bool DampingRefersToMechanism(const Config& cfg) {
 }
 
 std::vector<int> HeldForMechanismModes(const MechanismModel& model) {
-  const multibody::Mechanism& m = model.mechanism;
-  if (model.is_pendulum) return {m.coordinate(model.conrod, multibody::kTheta)};
-  return {m.coordinate(model.crank, multibody::kTheta)};
+  return model.recipe->HeldForModes(model);
 }
 
 Vec DampingRatiosFor(const Config& cfg, const Vec& frequencies_hz) {

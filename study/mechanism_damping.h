@@ -1,7 +1,7 @@
 // study/mechanism_damping.h — the flexible rod's modal damping referred to the rod's modes in
 // the assembled mechanism: damping.type = ratio | band sets the ratios of the mechanism's
 // modes (crank held, at the initial crank angle), not of the rod clamped to its floating frame
-// (DESIGN.md, "The rod must be right under axial load"). BuildMechanism (study/slider_crank.h)
+// (DESIGN.md, "The rod must be right under axial load"). BuildMechanism (study/mechanism_model.h)
 // builds the mechanism once without rod damping, calls ReferDampingToMechanism, and builds it
 // again with the returned damping matrix. What does not live here: the modal analysis and the
 // matrix (multibody/mechanism_modes.h), the damping kinds (multibody::DampingSpec).
@@ -19,7 +19,7 @@
 #include "common/eigen.h"
 #include "multibody/mechanism.h"
 #include "study/config.h"
-#include "study/slider_crank.h"
+#include "study/mechanism_model.h"
 
 namespace flexrod {
 

@@ -16,6 +16,7 @@
 #include "common/files.h"
 #include "common/units.h"
 #include "study/exact_rod_view.h"
+#include "study/mechanism_recipe.h"
 #include "study/run_files.h"
 #include "study/run_setup.h"
 #include "study/signals.h"
@@ -77,6 +78,38 @@ nlohmann::json SignalSummaryJson(const study::SignalSummary& a, const std::strin
            {{"median", a.magnitude.median}, {"p95", a.magnitude.p95}, {"max", a.magnitude.max}}}};
 }
 
+/// The rod's part of the summary (flexible and exact rods): peak gauge stress, safety factor,
+/// frequencies; `warning`: the mesh-precision warning, or empty.
+nlohmann::json RodSummaryJson(const study::TimeSeries& ts, const std::vector<ChannelStats>& stats,
+                              const MechanismModel& mm, std::string* warning) {
+  nlohmann::json rod;
+  double peak_stress = 0.0;
+  for (size_t c = 0; c < stats.size(); ++c) {
+    if (ts.channels()[c].name.rfind("stress_", 0) == 0)
+      peak_stress = std::max(peak_stress, stats[c].peak_abs());
+  }
+  const double yield = (mm.rod ? mm.rod->rod : mm.exact->rod).material.yield_strength;
+  rod = {{"model", mm.rod ? "reduced" : "exact"},
+         {"peak_gauge_stress [Pa]", peak_stress},
+         {"yield_strength [Pa]", yield},
+         {"safety_factor",
+          peak_stress > 0.0 ? nlohmann::json(yield / peak_stress) : nlohmann::json(nullptr)}};
+  if (mm.mechanism_frequencies_hz.size() > 0) {
+    // The rod's modes in the assembled mechanism (crank held) and the damping ratios they get.
+    const Vec& f = mm.mechanism_frequencies_hz;
+    const Vec& z = mm.mechanism_damping_ratios;
+    rod["mechanism_frequencies [Hz]"] = std::vector<double>(f.data(), f.data() + f.size());
+    rod["mechanism_damping_ratios"] = std::vector<double>(z.data(), z.data() + z.size());
+  }
+  if (mm.rod) {
+    rod["frequencies [Hz]"] =
+        std::vector<double>(mm.rod->frequencies_hz.data(),
+                            mm.rod->frequencies_hz.data() + mm.rod->frequencies_hz.size());
+    *warning = fem::MeshPrecisionWarning(mm.rod->rod, mm.rod->reduction.method);
+  }
+  return rod;
+}
+
 /// The run's summary from its record, the record's running channel statistics (Recorder::stats,
 /// in channel order) and its slider acceleration statistics (slider-cranks).
 nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& stats,
@@ -95,7 +128,7 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
         {"peak_abs", stats[c].peak_abs()},
         {"rms", std::sqrt(stats[c].sum_squares / static_cast<double>(ts.num_samples()))}};
   }
-  if (!mm.is_pendulum && ts.num_samples() > 2) {
+  if (mm.recipe->turns_a_crank() && ts.num_samples() > 2) {
     // Crank speed over the capture: the mean from the angle advanced (exact for any sampling),
     // the extremes from the samples. A motor drive droops and fluctuates; the others hold it.
     const auto th = ts.values("crank_angle");
@@ -110,32 +143,9 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
       s["slider_acceleration"] = SignalSummaryJson(*run.slider_acceleration, "m/s^2");
   }
   if (mm.rod || mm.exact) {
-    double peak_stress = 0.0;
-    for (size_t c = 0; c < stats.size(); ++c) {
-      if (ts.channels()[c].name.rfind("stress_", 0) == 0)
-        peak_stress = std::max(peak_stress, stats[c].peak_abs());
-    }
-    const double yield = (mm.rod ? mm.rod->rod : mm.exact->rod).material.yield_strength;
-    s["rod"] = {{"model", mm.rod ? "reduced" : "exact"},
-                {"peak_gauge_stress [Pa]", peak_stress},
-                {"yield_strength [Pa]", yield},
-                {"safety_factor", peak_stress > 0.0 ? nlohmann::json(yield / peak_stress)
-                                                    : nlohmann::json(nullptr)}};
-    if (mm.mechanism_frequencies_hz.size() > 0) {
-      // The rod's modes in the assembled mechanism (crank held) and the damping ratios they get.
-      const Vec& f = mm.mechanism_frequencies_hz;
-      const Vec& z = mm.mechanism_damping_ratios;
-      s["rod"]["mechanism_frequencies [Hz]"] = std::vector<double>(f.data(), f.data() + f.size());
-      s["rod"]["mechanism_damping_ratios"] = std::vector<double>(z.data(), z.data() + z.size());
-    }
-    if (mm.rod) {
-      s["rod"]["frequencies [Hz]"] =
-          std::vector<double>(mm.rod->frequencies_hz.data(),
-                              mm.rod->frequencies_hz.data() + mm.rod->frequencies_hz.size());
-      const std::string precision =
-          fem::MeshPrecisionWarning(mm.rod->rod, mm.rod->reduction.method);
-      if (!precision.empty()) s["warnings"].push_back(precision);
-    }
+    std::string warning;
+    s["rod"] = RodSummaryJson(ts, stats, mm, &warning);
+    if (!warning.empty()) s["warnings"].push_back(warning);
   }
   if (mm.clearance.index >= 0) {
     // Loaded contacts penetrate by micrometres; a tenth of the clearance means the law is far
@@ -170,62 +180,27 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
 
 namespace {
 
-RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
-                 MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr,
-                 bool profile = false, const std::atomic<bool>* stop = nullptr) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
+/// The integrator's options of a run of `mm` and its initial conditions `ic`: tolerances and
+/// limits from sim.*, the capture window from the recipe, the wall-clock deadline counted from
+/// `wall0`.
+multibody::SimulationOptions RunOptions(const Config& cfg, const MechanismModel& mm,
+                                        std::chrono::steady_clock::time_point wall0, bool profile,
+                                        const std::atomic<bool>* stop,
+                                        multibody::InitialConditionSpec* ic) {
   const multibody::Mechanism& m = mm.mechanism;
-  CheckRunInput(cfg, mm);
   multibody::SimulationOptions opt = OptionsFromConfig(cfg);
   const double settle = cfg.Quantity("sim.settle");
   const double capture = cfg.Quantity("sim.capture");
-  const std::string start = cfg.Text("sim.start");
-  const int max_revolutions = cfg.Integer("sim.steady_revolutions");  // of a steady start's search
-
-  multibody::InitialConditionSpec ic;
-  ic.coordinates = mm.p0;
-  ic.velocities = mm.v0;
-  ic.elastic = start == "static" ? multibody::ElasticInitialState::kStaticEquilibrium
-                                 : multibody::ElasticInitialState::kUndeformed;
-  double t_capture_start = settle;
-  if (!mm.is_pendulum) {
-    const int ct = m.coordinate(mm.crank, multibody::kTheta);
-    const double w0 = cfg.Text("drive.type") == "constant" ? cfg.Quantity("drive.speed") : 0.0;
-    if (cfg.Text("drive.type") == "motor") {  // constraint drivers fix the crank themselves
-      ic.fixed_coordinates = {ct};
-      ic.fixed_velocities = {ct};
-    }
-    if (mm.clearance.index >= 0) {
-      // With a clearance joint the rod angle and the slider are free: start them concentric on
-      // the rigid motion (p0, v0), so the run does not begin with an artificial impact.
-      const int rod_theta = m.coordinate(mm.conrod, multibody::kTheta);
-      const int slider_x = m.coordinate(mm.slider, multibody::kX);
-      ic.fixed_coordinates.insert(ic.fixed_coordinates.end(), {rod_theta, slider_x});
-      ic.fixed_velocities.insert(ic.fixed_velocities.end(), {rod_theta, slider_x});
-    }
-    opt.index_event = multibody::IndexEventSpec{mm.crank, cfg.Quantity("sim.index_angle")};
-    opt.start_sampling_at_index = true;
-    if (cfg.Text("drive.type") == "constant") {
-      // Exact index time: θ0 + ω t = θ_index + 2πk, first k with t ≥ settle.
-      const double theta0 = cfg.Quantity("drive.initial_angle"),
-                   idx = cfg.Quantity("sim.index_angle");
-      const double k = std::ceil((theta0 + w0 * settle - idx) / kTwoPi - 1e-12);
-      t_capture_start = (idx + kTwoPi * k - theta0) / w0;
-      opt.start_sampling_at_index = false;  // the grid starts exactly at the index time
-    } else {
-      t_capture_start =
-          settle + 0.0;  // the index event starts the grid; allow one extra revolution
-    }
-  } else {
-    ic.fixed_coordinates = {m.coordinate(mm.conrod, multibody::kTheta)};
-    ic.fixed_velocities = {m.coordinate(mm.conrod, multibody::kTheta)};
-  }
+  ic->coordinates = mm.p0;
+  ic->velocities = mm.v0;
+  ic->elastic = cfg.Text("sim.start") == "static"
+                    ? multibody::ElasticInitialState::kStaticEquilibrium
+                    : multibody::ElasticInitialState::kUndeformed;
+  const RunWindow window = mm.recipe->SetUpRun(cfg, mm, settle, ic, &opt);
+  const double t_capture_start = window.capture_start;
   opt.t_start = 0.0;
   opt.sample_start = opt.start_sampling_at_index ? settle : t_capture_start;
-  opt.t_end = t_capture_start + capture;
-  if (!mm.is_pendulum && cfg.Text("drive.type") != "constant")
-    opt.t_end += 1.0;  // wait for the index
+  opt.t_end = t_capture_start + capture + window.extra_time;
   const int max_steps = cfg.Integer("sim.max_steps");
   opt.max_steps = max_steps > 0 ? max_steps : std::lround(1e6 * (opt.t_end - opt.t_start)) + 100000;
   if (const double budget = cfg.Quantity("sim.max_wall_time"); budget > 0.0) {
@@ -237,124 +212,91 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   opt.integrator.time_calls = profile;
   opt.stop = stop;
   opt.Validate(m);
+  return opt;
+}
 
-  Recorder rec;
-  nlohmann::json gauges;
-  std::optional<study::ImpactLogger> impacts;  // clearance runs: every located contact event
-  if (mm.clearance.index >= 0) impacts.emplace();
-  DefineChannels(cfg, mm, &rec, &gauges, impacts ? &*impacts : nullptr);
-  // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
-  if (!ideal_joint) (void)ReadOutputSelection(cfg, opt.sample_rate, &rec.names());
-  multibody::RunData data(m);
-  const double rate = opt.sample_rate;
-  const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
-  rec.Reserve(static_cast<size_t>(max_samples));
-  // ParaView frames ride on the same samples: capture sample k is offered before it is recorded.
-  std::optional<study::VtkRecorder> vtk;
-  if (vtk_options) vtk.emplace(cfg, mm, *vtk_options, rate);
-  multibody::SimulationCallbacks cb;
-  double t_last_sample = 0.0;
-  cb.on_sample = [&](const SampleView& s) {
-    if (static_cast<long>(rec.size()) < max_samples) {
-      if (vtk) vtk->Offer(static_cast<long>(rec.size()), s);
-      rec.Record(s);
-      t_last_sample = s.t();
-    }
-  };
-  if (impacts) {
-    // The impact log also sees every integrator step and located event of the capture window
-    // (from its first sample to its last); the samples reach it through the channels.
-    cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
-      if (rec.size() == 0 ||
-          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample))
-        return;
-      impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta),
-                                               multibody::CalcClearanceResponse(s, mm.clearance)));
-    };
-    // Inside an impact, the peak force and penetration are located within each step (its
-    // interpolating polynomial), not taken at the solution points: those were up to 5e-4 low.
-    cb.on_step_interval = [&](const multibody::StepInterpolant& step) {
-      if (rec.size() == 0 ||
-          (static_cast<long>(rec.size()) >= max_samples && step.t_begin() >= t_last_sample))
-        return;
-      study::LocateImpactPeaks(step, mm.clearance, &*impacts);
-    };
-  }
-
-  RunResult out;
-  nlohmann::json steady;    // sim.start = steady: how the periodic state was found
-  if (start == "steady") {  // a slider-crank with a flexible rod (checked above)
-    // Periodic steady state: revolution by revolution, from crank index to crank index, until
-    // the rod's elastic coordinates at kSteadySamples points of a revolution repeat those of the
-    // previous one to 1000 · sim.rel_tol of their peak (kept within [1e-6, 1e-2]). The repeat
-    // cannot be closer than the integration error: on the flexible rig (ideal joint, 200 rpm)
-    // successive revolutions of a long run differ by 2e-4 of the peak at rel_tol 1e-6 and 1.5e-8 at
-    // 1e-8.
-    constexpr int kSteadySamples = 16;
-    const double tolerance = std::clamp(1e3 * opt.integrator.rel_tol, 1e-6, 1e-2);
-    multibody::ConsistentState state = multibody::ComputeConsistentState(m, &data, 0.0, ic);
-    const double period = kTwoPi / cfg.Quantity("drive.speed");
-    const double to_index =
-        WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
-    const double t_first_index = to_index * period / kTwoPi;
-    // The rod's elastic state: its elastic coordinates q (reduced rod), the nodes' deflections
-    // from the chord (exact rod).
-    const std::optional<study::ExactRodView> exact_view =
-        mm.exact ? std::optional<study::ExactRodView>(std::in_place, m, *mm.exact) : std::nullopt;
-    const int q0 = mm.rod ? m.coordinate(mm.conrod, multibody::kFirstMode) : 0;
-    const int n = mm.rod ? mm.rod->num_coordinates() : exact_view->num_nodes();
-    Mat previous, now(kSteadySamples, n);
-    Vec state_row(n);
-    multibody::SimulationOptions rev = opt;
-    rev.start_sampling_at_index = false;
-    rev.sample_rate = kSteadySamples / period;
-    double change = std::numeric_limits<double>::infinity();  // no previous revolution yet
-    int revolutions = 0;
-    for (; revolutions < max_revolutions && change > tolerance; ++revolutions) {
-      // Segment r ends at the (r+1)-th index time after t_first_index; its last revolution is
-      // sampled.
-      rev.t_end = t_first_index + (revolutions + 1) * period;
-      rev.sample_start = rev.t_end - period + period / kSteadySamples;
-      multibody::ConsistentState next;
-      int k = 0;
-      multibody::SimulationCallbacks c2;
-      c2.on_sample = [&](const SampleView& s) {
-        if (k < kSteadySamples) {
-          if (exact_view) {
-            exact_view->ElasticState(s.y(), state_row.data());
-          } else {
-            state_row = Eigen::Map<const Vec>(s.y() + q0, n);
-          }
-          now.row(k++) = state_row.transpose();
+/// sim.start = steady (a slider-crank with a flexible rod, checked by CheckRunInput): integrates
+/// from `ic` revolution by revolution and returns the state at the crank index where the rod's
+/// elastic state repeats; `steady` receives how it was found, `status` the last integration's.
+///
+/// The rod's elastic coordinates at kSteadySamples points of a revolution must repeat those of
+/// the previous one to 1000 · sim.rel_tol of their peak (kept within [1e-6, 1e-2]). The repeat
+/// cannot be closer than the integration error: on the flexible rig (ideal joint, 200 rpm)
+/// successive revolutions of a long run differ by 2e-4 of the peak at rel_tol 1e-6 and 1.5e-8
+/// at 1e-8.
+multibody::ConsistentState FindSteadyState(const Config& cfg, const MechanismModel& mm,
+                                           const multibody::SimulationOptions& opt,
+                                           const multibody::InitialConditionSpec& ic,
+                                           multibody::RunData* data,
+                                           multibody::SimulationStatus* status,
+                                           nlohmann::json* steady) {
+  const multibody::Mechanism& m = mm.mechanism;
+  const int max_revolutions = cfg.Integer("sim.steady_revolutions");
+  constexpr int kSteadySamples = 16;
+  const double tolerance = std::clamp(1e3 * opt.integrator.rel_tol, 1e-6, 1e-2);
+  multibody::ConsistentState state = multibody::ComputeConsistentState(m, data, 0.0, ic);
+  const double period = kTwoPi / cfg.Quantity("drive.speed");
+  const double to_index =
+      WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
+  const double t_first_index = to_index * period / kTwoPi;
+  // The rod's elastic state: its elastic coordinates q (reduced rod), the nodes' deflections
+  // from the chord (exact rod).
+  const std::optional<study::ExactRodView> exact_view =
+      mm.exact ? std::optional<study::ExactRodView>(std::in_place, m, *mm.exact) : std::nullopt;
+  const int q0 = mm.rod ? m.coordinate(mm.conrod, multibody::kFirstMode) : 0;
+  const int n = mm.rod ? mm.rod->num_coordinates() : exact_view->num_nodes();
+  Mat previous, now(kSteadySamples, n);
+  Vec state_row(n);
+  multibody::SimulationOptions rev = opt;
+  rev.start_sampling_at_index = false;
+  rev.sample_rate = kSteadySamples / period;
+  double change = std::numeric_limits<double>::infinity();  // no previous revolution yet
+  int revolutions = 0;
+  for (; revolutions < max_revolutions && change > tolerance; ++revolutions) {
+    // Segment r ends at the (r+1)-th index time after t_first_index; its last revolution is
+    // sampled.
+    rev.t_end = t_first_index + (revolutions + 1) * period;
+    rev.sample_start = rev.t_end - period + period / kSteadySamples;
+    multibody::ConsistentState next;
+    int k = 0;
+    multibody::SimulationCallbacks c2;
+    c2.on_sample = [&](const SampleView& s) {
+      if (k < kSteadySamples) {
+        if (exact_view) {
+          exact_view->ElasticState(s.y(), state_row.data());
+        } else {
+          state_row = Eigen::Map<const Vec>(s.y() + q0, n);
         }
-        next.t = s.t();
-        next.y = Eigen::Map<const Vec>(s.y(), m.size());
-        next.yp = Eigen::Map<const Vec>(s.yp(), m.size());
-      };
-      out.status = multibody::Simulate(m, &data, state, rev, c2);
-      if (!out.status.ok() || k < kSteadySamples) break;
-      if (previous.size() > 0)
-        change =
-            (now - previous).cwiseAbs().maxCoeff() / std::max(now.cwiseAbs().maxCoeff(), 1e-300);
-      previous = now;
-      state = next;
-    }
-    steady = {{"revolutions", revolutions},
-              {"relative_change", change},
-              {"tolerance", tolerance},
-              {"converged", change <= tolerance}};
-    if (out.status.ok()) {
-      opt.sample_start = state.t;
-      opt.t_end = state.t + capture;
-      opt.start_sampling_at_index = false;
-      out.status = multibody::Simulate(m, &data, state, opt, cb);
-    }
-  } else {
-    out.status = multibody::Simulate(m, &data, ic, opt, cb);
+        now.row(k++) = state_row.transpose();
+      }
+      next.t = s.t();
+      next.y = Eigen::Map<const Vec>(s.y(), m.size());
+      next.yp = Eigen::Map<const Vec>(s.yp(), m.size());
+    };
+    *status = multibody::Simulate(m, data, state, rev, c2);
+    if (!status->ok() || k < kSteadySamples) break;
+    if (previous.size() > 0)
+      change = (now - previous).cwiseAbs().maxCoeff() / std::max(now.cwiseAbs().maxCoeff(), 1e-300);
+    previous = now;
+    state = next;
   }
-  out.channels = rec.Finish(rate);
-  if (vtk) out.vtk = vtk->Finish();
-  if (!mm.is_pendulum && out.channels.num_samples() > 2) {
+  *steady = {{"revolutions", revolutions},
+             {"relative_change", change},
+             {"tolerance", tolerance},
+             {"converged", change <= tolerance}};
+  return state;
+}
+
+/// The summary of a finished run `out` (its channels, impacts and status set): per-revolution
+/// statistics of a crank's run, the channel summaries, the steady start, the impacts, the
+/// integrator's counters.
+void SummariseRun(const Config& cfg, const MechanismModel& mm, const Recorder& rec,
+                  const nlohmann::json& gauges, const nlohmann::json& steady,
+                  study::ImpactLogger* impacts, bool profile,
+                  std::chrono::steady_clock::time_point wall0, RunResult* out_ptr) {
+  const multibody::Mechanism& m = mm.mechanism;
+  RunResult& out = *out_ptr;
+  if (mm.recipe->turns_a_crank() && out.channels.num_samples() > 2) {
     // One split into revolutions for both channels (and, through the twin's, the amplification).
     const study::SampleRange all = out.channels.all();
     const std::vector<study::SampleRange> revolutions = study::SplitRevolutions(
@@ -407,6 +349,78 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   out.summary["capture_start [s]"] = out.channels.num_samples() ? out.channels.start_time() : 0.0;
   out.summary["wall_time [s]"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+}
+
+RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
+                 MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr,
+                 bool profile = false, const std::atomic<bool>* stop = nullptr) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
+  const multibody::Mechanism& m = mm.mechanism;
+  CheckRunInput(cfg, mm);
+  multibody::InitialConditionSpec ic;
+  multibody::SimulationOptions opt = RunOptions(cfg, mm, wall0, profile, stop, &ic);
+  const double capture = cfg.Quantity("sim.capture");
+  Recorder rec;
+  nlohmann::json gauges;
+  std::optional<study::ImpactLogger> impacts;  // clearance runs: every located contact event
+  if (mm.clearance.index >= 0) impacts.emplace();
+  DefineChannels(cfg, mm, &rec, &gauges, impacts ? &*impacts : nullptr);
+  // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
+  if (!ideal_joint) (void)ReadOutputSelection(cfg, opt.sample_rate, &rec.names());
+  multibody::RunData data(m);
+  const double rate = opt.sample_rate;
+  const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
+  rec.Reserve(static_cast<size_t>(max_samples));
+  // ParaView frames ride on the same samples: capture sample k is offered before it is recorded.
+  std::optional<study::VtkRecorder> vtk;
+  if (vtk_options) vtk.emplace(cfg, mm, *vtk_options, rate);
+  multibody::SimulationCallbacks cb;
+  double t_last_sample = 0.0;
+  cb.on_sample = [&](const SampleView& s) {
+    if (static_cast<long>(rec.size()) < max_samples) {
+      if (vtk) vtk->Offer(static_cast<long>(rec.size()), s);
+      rec.Record(s);
+      t_last_sample = s.t();
+    }
+  };
+  if (impacts) {
+    // The impact log also sees every integrator step and located event of the capture window
+    // (from its first sample to its last); the samples reach it through the channels.
+    cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
+      if (rec.size() == 0 ||
+          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample))
+        return;
+      impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta),
+                                               multibody::CalcClearanceResponse(s, mm.clearance)));
+    };
+    // Inside an impact, the peak force and penetration are located within each step (its
+    // interpolating polynomial), not taken at the solution points: those were up to 5e-4 low.
+    cb.on_step_interval = [&](const multibody::StepInterpolant& step) {
+      if (rec.size() == 0 ||
+          (static_cast<long>(rec.size()) >= max_samples && step.t_begin() >= t_last_sample))
+        return;
+      study::LocateImpactPeaks(step, mm.clearance, &*impacts);
+    };
+  }
+
+  RunResult out;
+  nlohmann::json steady;  // sim.start = steady: how the periodic state was found
+  if (cfg.Text("sim.start") == "steady") {
+    const multibody::ConsistentState state =
+        FindSteadyState(cfg, mm, opt, ic, &data, &out.status, &steady);
+    if (out.status.ok()) {
+      opt.sample_start = state.t;
+      opt.t_end = state.t + capture;
+      opt.start_sampling_at_index = false;
+      out.status = multibody::Simulate(m, &data, state, opt, cb);
+    }
+  } else {
+    out.status = multibody::Simulate(m, &data, ic, opt, cb);
+  }
+  out.channels = rec.Finish(rate);
+  if (vtk) out.vtk = vtk->Finish();
+  SummariseRun(cfg, mm, rec, gauges, steady, impacts ? &*impacts : nullptr, profile, wall0, &out);
   if (model_out) *model_out = std::move(mm);
   return out;
 }
@@ -442,7 +456,8 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   // already fill the cores), the rod is built first and the twin runs beside the run.
   std::future<std::shared_ptr<const RunResult>> twin_beside;
   if (!ideal_joint && outputs.twins == nullptr && cfg.Text("joint.type") == "clearance" &&
-      cfg.Text("mechanism.type") == "slider-crank" && std::thread::hardware_concurrency() > 1) {
+      FindRecipe(cfg.Text("mechanism.type")).turns_a_crank() &&
+      std::thread::hardware_concurrency() > 1) {
     if (!rod && cfg.Text("rod.type") == "flexible") rod = BuildReducedRod(cfg);
     CheckRunInput(cfg, BuildMechanism(cfg, rod));  // a bad input starts no twin
     twin_beside = std::async(std::launch::async, [cfg, rod, stop = outputs.stop] {
@@ -455,8 +470,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
                          outputs.profile, outputs.stop);
   if (out.vtk && !outputs.vtk_dir.empty())
     out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
-  const bool clearance = !ideal_joint && !mm.is_pendulum && cfg.Text("joint.type") == "clearance";
-  if (!clearance || out.channels.num_samples() < 3) return out;
+  if (mm.clearance.index < 0 || out.channels.num_samples() < 3) return out;
   bool computed = false;
   auto compute_twin = [&] {
     computed = true;

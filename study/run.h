@@ -19,8 +19,8 @@
 #include "multibody/simulate.h"
 #include "study/config.h"
 #include "study/impact_log.h"
+#include "study/mechanism_model.h"
 #include "study/signals.h"
-#include "study/slider_crank.h"
 #include "study/timeseries.h"
 #include "study/vtk.h"
 

@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "common/units.h"
 #include "study/exact_rod_view.h"
+#include "study/mechanism_recipe.h"
 #include "study/rod_config.h"
 #include "study/run.h"
 #include "study/run_files.h"
@@ -56,122 +57,62 @@ std::vector<double> GaugePositions(const Config& cfg, const fem::RodSpec& rod) {
 
 }  // namespace
 
+/// The reduced rod's channels: deflection from the chord at output.midspan, the gauges' strain
+/// and stress, its modal coordinates.
+void DefineReducedRodChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
+                              nlohmann::json* gauges_json) {
+  const multibody::Mechanism& m = mm.mechanism;
+  const auto conrod = mm.conrod;
+  const fem::ReducedRod& rod = *mm.rod;
+  const int n = rod.num_coordinates();
+  const int q0 = m.coordinate(conrod, multibody::kFirstMode);
+  // Deflection probe: node nearest to output.midspan, relative to the chord.
+  const int probe = ProbeNode(cfg, rod.rod);
+  const int last = rod.rod.num_nodes() - 1;
+  const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
+  rec->Add({{"rod_deflection", "m"}}, [=](const SampleView& s, double* v) {
+    const Eigen::Map<const Vec> q(s.y() + q0, n);
+    auto pos = [&](int k) -> Vec2 { return keep->nodes[k].position + keep->nodes[k].S_u * q; };
+    const Vec2 a = pos(0), b = pos(last), c = pos(probe);
+    const Vec2 chord = (b - a).normalized();
+    v[0] = chord.x() * (c - a).y() - chord.y() * (c - a).x();  // signed distance from the chord
+  });
+  const double E = rod.rod.material.youngs_modulus;
+  const double y = rod.rod.section.half_depth_in_plane();
+  const std::vector<double> xs = GaugePositions(cfg, rod.rod);
+  for (size_t g = 0; g < xs.size(); ++g) {
+    const std::string name = "gauge" + std::to_string(g + 1);
+    const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
+    const RowVec strain_row = rows.axial + rows.bending;
+    // The second-order axial strain (rod.geometric_stiffening): the chord's shortening.
+    const Mat membrane = cfg.Bool("rod.geometric_stiffening") ? rows.membrane : Mat();
+    rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
+             [=, work = Vec(n)](const SampleView& s, double* v) mutable {
+               const Eigen::Map<const Vec> q(s.y() + q0, n);
+               v[0] = strain_row.dot(q);
+               if (membrane.size() > 0) {  // no allocation per sample: the product into work
+                 work.noalias() = membrane * q;
+                 v[0] += q.dot(work);
+               }
+               v[1] = E * v[0];
+             });
+    (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
+  }
+  std::vector<Recorder::Spec> modal;
+  for (int k = 0; k < n; ++k) {
+    std::string name = "q";  // (not "q" + to_string: GCC 12 -Wrestrict false positive, PR 105329)
+    name += std::to_string(k + 1);
+    modal.push_back({name, "1"});
+  }
+  rec->Add(std::move(modal),
+           [=](const SampleView& s, double* v) { std::copy_n(s.y() + q0, n, v); });
+}
+
 void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
                     nlohmann::json* gauges_json, study::ImpactLogger* impacts) {
   const multibody::Mechanism& m = mm.mechanism;
-  const auto conrod = mm.conrod;
-  const int rod_theta = m.coordinate(conrod, multibody::kTheta);
-  if (!mm.is_pendulum) {
-    const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
-    const int sx = m.coordinate(mm.slider, multibody::kX);
-    rec->Add({{"crank_angle", "rad"}, {"crank_speed", "rad/s"}, {"crank_torque", "N*m"}},
-             [=, driver = mm.driver](const SampleView& s, double* v) {
-               v[0] = s.coordinate(crank_theta);
-               v[1] = s.velocity(crank_theta);
-               v[2] = s.Driver(driver).torque;
-             });
-    rec->Add(
-        {{"slider_position", "m"}, {"slider_velocity", "m/s"}, {"slider_acceleration", "m/s^2"}},
-        [=](const SampleView& s, double* v) {
-          v[0] = s.coordinate(sx);
-          v[1] = s.velocity(sx);
-          v[2] = s.acceleration(sx);
-        });
-    // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
-    rec->Add({{"big_end_force_x", "N"}, {"big_end_force_y", "N"}},
-             [joint = mm.big_end_joint](const SampleView& s, double* v) {
-               const Vec2 f = s.Reaction(joint).force_j;
-               v[0] = f.x();
-               v[1] = f.y();
-             });
-    if (mm.small_end_joint.index >= 0) {  // ideal small-end joint
-      // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
-      rec->Add({{"bearing_force_x", "N"}, {"bearing_force_y", "N"}, {"bearing_force", "N"}},
-               [joint = mm.small_end_joint](const SampleView& s, double* v) {
-                 const Vec2 f = s.Reaction(joint).force_i;
-                 v[0] = f.x();
-                 v[1] = f.y();
-                 v[2] = f.norm();
-               });
-    }
-    if (mm.clearance.index >= 0) {  // clearance small-end joint (multibody/clearance_joint.h)
-      // Pin centre relative to the bush centre (world axes); penetration < 0 is the open gap.
-      rec->Add({{"journal_eccentricity_x", "m"},
-                {"journal_eccentricity_y", "m"},
-                {"journal_eccentricity", "m"},
-                {"penetration", "m"},
-                {"penetration_rate", "m/s"},
-                {"contact_normal_force", "N"},
-                {"contact_friction_force", "N"},
-                {"contact_dissipation", "W"},
-                {"bearing_force", "N"}},
-               [=, joint = mm.clearance](const SampleView& s, double* v) {
-                 const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, joint);
-                 if (impacts)
-                   impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta), r));
-                 v[0] = r.kinematics.eccentricity.x();
-                 v[1] = r.kinematics.eccentricity.y();
-                 v[2] = r.kinematics.eccentricity_norm;
-                 v[3] = r.kinematics.penetration;
-                 v[4] = r.kinematics.penetration_rate;
-                 v[5] = r.normal_force;
-                 v[6] = r.friction_force;
-                 v[7] = r.dissipation();
-                 v[8] = std::hypot(r.normal_force, r.friction_force);  // |force on the bush|
-               });
-    }
-  } else {
-    rec->Add({{"rod_angle", "rad"}, {"rod_angular_velocity", "rad/s"}},
-             [=](const SampleView& s, double* v) {
-               v[0] = s.coordinate(rod_theta);
-               v[1] = s.velocity(rod_theta);
-             });
-  }
-  if (mm.rod) {
-    const fem::ReducedRod& rod = *mm.rod;
-    const int n = rod.num_coordinates();
-    const int q0 = m.coordinate(conrod, multibody::kFirstMode);
-    // Deflection probe: node nearest to output.midspan, relative to the chord.
-    const int probe = ProbeNode(cfg, rod.rod);
-    const int last = rod.rod.num_nodes() - 1;
-    const std::shared_ptr<const fem::ReducedRod> keep = mm.rod;
-    rec->Add({{"rod_deflection", "m"}}, [=](const SampleView& s, double* v) {
-      const Eigen::Map<const Vec> q(s.y() + q0, n);
-      auto pos = [&](int k) -> Vec2 { return keep->nodes[k].position + keep->nodes[k].S_u * q; };
-      const Vec2 a = pos(0), b = pos(last), c = pos(probe);
-      const Vec2 chord = (b - a).normalized();
-      v[0] = chord.x() * (c - a).y() - chord.y() * (c - a).x();  // signed distance from the chord
-    });
-    const double E = rod.rod.material.youngs_modulus;
-    const double y = rod.rod.section.half_depth_in_plane();
-    const std::vector<double> xs = GaugePositions(cfg, rod.rod);
-    for (size_t g = 0; g < xs.size(); ++g) {
-      const std::string name = "gauge" + std::to_string(g + 1);
-      const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
-      const RowVec strain_row = rows.axial + rows.bending;
-      // The second-order axial strain (rod.geometric_stiffening): the chord's shortening.
-      const Mat membrane = cfg.Bool("rod.geometric_stiffening") ? rows.membrane : Mat();
-      rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
-               [=, work = Vec(n)](const SampleView& s, double* v) mutable {
-                 const Eigen::Map<const Vec> q(s.y() + q0, n);
-                 v[0] = strain_row.dot(q);
-                 if (membrane.size() > 0) {  // no allocation per sample: the product into work
-                   work.noalias() = membrane * q;
-                   v[0] += q.dot(work);
-                 }
-                 v[1] = E * v[0];
-               });
-      (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
-    }
-    std::vector<Recorder::Spec> modal;
-    for (int k = 0; k < n; ++k) {
-      std::string name = "q";  // (not "q" + to_string: GCC 12 -Wrestrict false positive, PR 105329)
-      name += std::to_string(k + 1);
-      modal.push_back({name, "1"});
-    }
-    rec->Add(std::move(modal),
-             [=](const SampleView& s, double* v) { std::copy_n(s.y() + q0, n, v); });
-  }
+  mm.recipe->DefineChannels(mm, rec, impacts);
+  if (mm.rod) DefineReducedRodChannels(cfg, mm, rec, gauges_json);
   std::shared_ptr<const study::ExactRodView> exact;
   if (mm.exact) {
     // The exact rod (rod.type = exact): deflection and gauges from its node bodies.
@@ -289,7 +230,7 @@ void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
     throw InputError("sim.steady_revolutions", std::to_string(max_revolutions),
                      "must be >= 2 (two revolutions are the least that can repeat)");
   }
-  if (start == "steady" && (mm.is_pendulum || !(mm.rod || mm.exact))) {
+  if (start == "steady" && (!mm.recipe->turns_a_crank() || !(mm.rod || mm.exact))) {
     throw InputError(
         "sim.start", "steady",
         "needs a slider-crank with a flexible rod: the periodic steady state is found on the "

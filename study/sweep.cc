@@ -18,9 +18,9 @@
 
 #include "common/error.h"
 #include "common/files.h"
+#include "study/mechanism_model.h"
 #include "study/run.h"
 #include "study/run_files.h"
-#include "study/slider_crank.h"
 
 namespace flexrod::study {
 namespace {

@@ -26,12 +26,6 @@ constexpr double kSliderHalfHeightInBushRadii = 1.25;
 /// limit is approached to O(1e-6) of their variation over an element).
 constexpr double kNodeLimitOffset = 1e-6;
 
-Mat2 Rotation(double angle) {
-  Mat2 A;
-  A << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-  return A;
-}
-
 void AppendNumber(std::string* out, double v) {
   char buf[32];
   const auto res = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
@@ -232,7 +226,7 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
   for (int k = 0; k < L.rod_count; ++k) rod_line[k] = L.rod_first + k;
   L.cells.push_back({kVtkPolyLine, VtkPart::kRod, rod_line});
   L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.big_end, L.rod_first}});
-  if (!model.is_pendulum) {
+  if (!model.crank.is_ground()) {  // a slider-crank: crank, slider, small-end clamp and joint
     // Where the small-end clamp is a body of its own, Frame() draws the bush at its marker.
     const multibody::Marker& small = m.marker(model.small_end);
     L.small_end = next++;
@@ -339,7 +333,7 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
       f.bending_stress[L.rod_first + k] = bending[k];
     }
   }
-  if (model_.is_pendulum) {
+  if (model_.crank.is_ground()) {  // no crank, no slider (the pendulum)
     f.crank_angle = std::numeric_limits<double>::quiet_NaN();
     return f;
   }

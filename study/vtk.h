@@ -4,9 +4,9 @@
 // circles of a clearance joint), and the writer of the frames as VTK XML UnstructuredGrid
 // files (.vtu, ASCII, Float64) with a .pvd collection whose timesteps are the sample times.
 // What does not live here: the run loop that feeds the recorder (study/run.cc), the
-// mechanism layout (study/slider_crank.h), marker kinematics (multibody/).
+// mechanism layout (study/mechanism_model.h), marker kinematics (multibody/).
 //
-// Geometry (study/slider_crank.h notation). The elastic displacement of a rod point ū₀ with
+// Geometry (study/mechanism_model.h notation). The elastic displacement of a rod point ū₀ with
 // shape rows S_u is d = S_u q_f in the rod frame B (origin at the big-end clamp node). It is
 // split into its chord part d_c, interpolated linearly (by the position along the undeformed
 // chord) between the displacements of the rod's two end nodes, and the deflection d − d_c.
@@ -29,7 +29,7 @@
 #include "multibody/simulate.h"
 #include "study/config.h"
 #include "study/exact_rod_view.h"
-#include "study/slider_crank.h"
+#include "study/mechanism_model.h"
 
 namespace flexrod::study {
 

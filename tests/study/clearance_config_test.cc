@@ -1,5 +1,5 @@
 // tests/study/clearance_config_test.cc — the clearance joint from input keys
-// (study/joint_config.h) and its place in the slider-crank (study/slider_crank.h): the schema
+// (study/joint_config.h) and its place in the slider-crank (study/mechanism_model.h): the schema
 // offers every normal law of the contact layer; defaults give the rig's joint (R_bush =
 // 9.525 mm, c = 0.5 mm, R_pin = 9.025 mm, L = 12.7 mm, steel, hybrid, Coulomb μ = 0.18) with a
 // resolved record; every bad input fails with an InputError naming the joint.* key; the built
@@ -17,8 +17,8 @@
 #include "multibody/simulate.h"
 #include "study/config.h"
 #include "study/joint_config.h"
+#include "study/mechanism_model.h"
 #include "study/presets.h"
-#include "study/slider_crank.h"
 
 namespace flexrod {
 namespace {

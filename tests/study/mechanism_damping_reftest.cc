@@ -14,8 +14,8 @@
 #include "multibody/mechanism_modes.h"
 #include "multibody/simulate.h"
 #include "study/mechanism_damping.h"
+#include "study/mechanism_model.h"
 #include "study/presets.h"
-#include "study/slider_crank.h"
 
 namespace flexrod {
 namespace {

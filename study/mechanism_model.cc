@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "study/slider_crank.h"
+#include "study/mechanism_model.h"
 
 #include <cmath>
 #include <numbers>
@@ -9,6 +9,7 @@
 #include "multibody/mechanism_modes.h"
 #include "study/joint_config.h"
 #include "study/mechanism_damping.h"
+#include "study/mechanism_recipe.h"
 #include "study/rod_config.h"
 
 namespace flexrod {
@@ -16,12 +17,6 @@ namespace {
 
 using multibody::BodyId;
 using multibody::MarkerId;
-
-Mat2 Rotation(double angle) {
-  Mat2 A;
-  A << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-  return A;
-}
 
 multibody::DampingSpec DampingFromConfig(const Config& cfg) {
   const std::string type = cfg.Text("damping.type");
@@ -38,31 +33,27 @@ multibody::DampingSpec DampingFromConfig(const Config& cfg) {
   return d;
 }
 
-std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
-  std::vector<std::pair<double, double>> knots;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const size_t colon = item.find(':');
-    if (colon == std::string::npos) {
-      throw InputError("drive.profile", text, "must be comma-separated time:speed pairs (s:rpm)");
-    }
-    const double t = ParseQuantity("drive.profile", item.substr(0, colon), Dimension::kTime);
-    const double rpm =
-        ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
-    knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
-  }
-  if (knots.size() < 2)
-    throw InputError("drive.profile", text, "needs at least two time:speed pairs");
-  for (size_t k = 1; k < knots.size(); ++k) {
-    if (!(knots[k].first > knots[k - 1].first)) {
-      throw InputError("drive.profile", text, "the times must be strictly increasing");
-    }
-  }
-  return knots;
+}  // namespace
+
+Mat2 Rotation(double angle) {
+  Mat2 A;
+  A << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  return A;
 }
 
-}  // namespace
+void PlaceRod(const MechanismModel& mm, const Vec2& R, double theta, Vec* p) {
+  const multibody::Mechanism& m = mm.mechanism;
+  (*p)[m.coordinate(mm.conrod, multibody::kX)] = R.x();
+  (*p)[m.coordinate(mm.conrod, multibody::kY)] = R.y();
+  (*p)[m.coordinate(mm.conrod, multibody::kTheta)] = theta;
+  if (mm.exact) multibody::SetExactRodPose(m, *mm.exact, R, theta, p);
+  if (mm.small_clamp.index >= 0) {
+    const Vec2 C = R + Rotation(theta) * Vec2(mm.rod_length, 0.0);
+    (*p)[m.coordinate(mm.small_clamp, multibody::kX)] = C.x();
+    (*p)[m.coordinate(mm.small_clamp, multibody::kY)] = C.y();
+    (*p)[m.coordinate(mm.small_clamp, multibody::kTheta)] = theta;
+  }
+}
 
 /// The rod of the input with its clamps as rigid attachments (flexible and exact rods); the
 /// small-end clamp only if `small_clamp`.
@@ -110,11 +101,12 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
   const bool exact = cfg.Text("rod.type") == "exact";
   const int last_node = flexible ? rod->rod.num_nodes() - 1 : 0;
-  // Joint-to-joint vector in the rod frame (undeformed).
-  const Vec2 big_point = big_offset;
+  // The joint points in the rod frame (undeformed).
   const Vec2 small_point = Vec2(length, 0.0) + small_offset;
-  const Vec2 d = small_point - big_point;
-  out.effective_length = d.norm();
+  out.rod_length = length;
+  out.big_end_point = big_offset;
+  out.small_end_point = small_point;
+  out.effective_length = (small_point - big_offset).norm();
 
   // ---- the connecting rod ----
   if (flexible) {
@@ -175,142 +167,8 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   if (cfg.Bool("gravity.enabled"))
     b.SetGravity(Vec2(cfg.Quantity("gravity.x"), cfg.Quantity("gravity.y")));
 
-  if (cfg.Text("mechanism.type") == "pendulum") {
-    // Rod pinned at the big-end point to the ground at the origin, released horizontally.
-    out.is_pendulum = true;
-    const MarkerId pivot = b.AddGroundMarker("pivot", Vec2::Zero());
-    out.big_end_joint = b.AddRevolute("pivot", pivot, out.big_end);
-    out.mechanism = b.Build();
-    out.p0 = Vec::Zero(out.mechanism.num_coordinates());
-    const Vec2 R = -big_offset;
-    out.p0[out.mechanism.coordinate(out.conrod, multibody::kX)] = R.x();
-    out.p0[out.mechanism.coordinate(out.conrod, multibody::kY)] = R.y();
-    if (out.exact) multibody::SetExactRodPose(out.mechanism, *out.exact, R, 0.0, &out.p0);
-    out.v0 = Vec::Zero(out.mechanism.num_coordinates());
-    return out;
-  }
-
-  // ---- crank ----
-  const double r = cfg.Quantity("crank.length");
-  out.crank_length = r;
-  const double crank_mass = cfg.Quantity("crank.mass");
-  const double crank_inertia = cfg.Quantity("crank.inertia");
-  out.crank = b.AddRigidBody({"crank", crank_mass, crank_inertia, Vec2::Zero()});
-  const MarkerId origin = b.AddGroundMarker("ground-axis", Vec2::Zero());
-  const MarkerId crank_axis = b.AddBodyMarker(out.crank, "crank-axis", Vec2::Zero());
-  out.crank_pin = b.AddBodyMarker(out.crank, "crank-pin", Vec2(r, 0.0));
-  out.crank_pivot_joint = b.AddRevolute("crank-pivot", origin, crank_axis);
-  out.big_end_joint = b.AddRevolute("big-end", out.crank_pin, out.big_end);
-
-  // ---- slider on its guide ----
-  const double slider_mass = cfg.Quantity("slider.mass");
-  const double e = cfg.Quantity("slider.offset");
-  if (!(out.effective_length > r + std::abs(e))) {
-    throw InputError("rod.length", FormatValue(length),
-                     "the joint-to-joint length (" + FormatValue(out.effective_length) +
-                         " m) must exceed crank.length + |slider.offset| (" +
-                         FormatValue(r + std::abs(e)) + " m) for the crank to turn");
-  }
-  out.slider = b.AddRigidBody({"slider", slider_mass, 0.0, Vec2::Zero()});
-  out.journal = b.AddBodyMarker(out.slider, "journal", Vec2::Zero());
-  const MarkerId guide = b.AddGroundMarker("guide", Vec2(0.0, e));
-  multibody::PrismaticSpec ps;
-  ps.name = "guide";
-  ps.marker_i = guide;
-  ps.marker_j = out.journal;
-  ps.axis = Vec2(1.0, 0.0);
-  ps.damping = cfg.Quantity("slider.damping");
-  ps.friction_force = cfg.Quantity("slider.friction");
-  ps.friction_regularisation_speed = cfg.Quantity("slider.friction_velocity");
-  out.guide_joint = b.AddPrismatic(ps);
-
-  if (ideal_joint || cfg.Text("joint.type") == "ideal") {
-    out.small_end_joint = b.AddRevolute("small-end", out.small_end, out.journal);
-  } else {
-    // Clearance joint: bush on the rod's small-end clamp (marker i), pin on the slider (marker
-    // j). The slider keeps its guide (y and angle held); along it, it is free. p0 below puts the
-    // journal at the bush centre (concentric pin: zero eccentricity, joint open).
-    ClearanceJointConfig joint = ResolveClearanceJoint(cfg, slider_mass);
-    out.clearance = b.AddForceElement("small-end-clearance", out.small_end, out.journal,
-                                      MakeClearanceJoint(joint));
-    out.joint_parameters = std::move(joint.parameters);
-  }
-
-  // ---- drive ----
-  const double theta0 = cfg.Quantity("drive.initial_angle");
-  const std::string drive = cfg.Text("drive.type");
-  // A profile given with another drive type is still checked: its rules hold whatever is used.
-  if (drive != "profile" && !cfg.Text("drive.profile").empty())
-    (void)ParseProfile(cfg.Text("drive.profile"));
-  if (drive == "constant") {
-    const double w = cfg.Quantity("drive.speed");
-    out.driver = b.AddConstantSpeedDriver("drive", out.crank, theta0, w);
-  } else if (drive == "profile") {
-    std::vector<double> times, speeds;
-    for (const auto& [t, w] : ParseProfile(cfg.Text("drive.profile"))) {
-      times.push_back(t);
-      speeds.push_back(w);
-    }
-    out.driver = b.AddSpeedProfileDriver("drive", out.crank, theta0, times, speeds);
-  } else {
-    // DC motor on armature-voltage (SCR) control: motor.* is the rated line, T = T_s (1 − ω/ω₀)
-    // at full voltage. A DC motor's torque line at armature voltage V is T = (k/R)(V − k ω): the
-    // slope k²/R = T_s/ω₀ is the motor's, the no-load speed scales with V. The SCR is set so
-    // that the no-load crank speed is drive.speed (V/V_rated = belt ratio · drive.speed / ω₀);
-    // under load the mean speed droops by the mean load torque / slope, and impacts make it
-    // fluctuate through the flywheel.
-    multibody::DcMotorSpec m;
-    const double rated_stall = cfg.Quantity("motor.stall_torque");
-    const double rated_no_load = cfg.Quantity("motor.no_load_speed");
-    m.ratio = cfg.Quantity("motor.belt_ratio");
-    const double w = cfg.Quantity("drive.speed");
-    const double voltage_fraction = m.ratio * w / rated_no_load;
-    if (voltage_fraction > 1.0 + 1e-12) {
-      throw InputError(
-          "drive.speed", FormatValue(w) + " rad/s",
-          "with drive.type = motor must be at most motor.no_load_speed / motor.belt_ratio = " +
-              FormatValue(rated_no_load / m.ratio) +
-              " rad/s: the no-load speed at full armature voltage");
-    }
-    m.stall_torque = voltage_fraction * rated_stall;
-    m.no_load_speed = voltage_fraction * rated_no_load;  // = belt ratio · drive.speed
-    m.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
-    m.Validate("motor");
-    out.driver = b.AddDcMotorDriver("drive", out.crank, m);
-  }
-  out.mechanism = b.Build();
-
-  // ---- initial configuration and velocity of the rigid motion at crank angle θ0 ----
-  const multibody::Mechanism& mech = out.mechanism;
-  auto rigid_pose = [&](double theta) {
-    Vec p = Vec::Zero(mech.num_coordinates());
-    const Vec2 P = r * Vec2(std::cos(theta), std::sin(theta));
-    const double ell = out.effective_length;
-    const Vec2 S(P.x() + std::sqrt(ell * ell - (e - P.y()) * (e - P.y())), e);
-    const double theta_rod = std::atan2(S.y() - P.y(), S.x() - P.x()) - std::atan2(d.y(), d.x());
-    const Vec2 R = P - Rotation(theta_rod) * big_point;
-    p[mech.coordinate(out.crank, multibody::kTheta)] = theta;
-    p[mech.coordinate(out.conrod, multibody::kX)] = R.x();
-    p[mech.coordinate(out.conrod, multibody::kY)] = R.y();
-    p[mech.coordinate(out.conrod, multibody::kTheta)] = theta_rod;
-    if (out.exact) multibody::SetExactRodPose(mech, *out.exact, R, theta_rod, &p);
-    if (out.small_clamp.index >= 0) {
-      const Vec2 C = R + Rotation(theta_rod) * Vec2(length, 0.0);
-      p[mech.coordinate(out.small_clamp, multibody::kX)] = C.x();
-      p[mech.coordinate(out.small_clamp, multibody::kY)] = C.y();
-      p[mech.coordinate(out.small_clamp, multibody::kTheta)] = theta_rod;
-    }
-    p[mech.coordinate(out.slider, multibody::kX)] = S.x();
-    p[mech.coordinate(out.slider, multibody::kY)] = S.y();
-    return p;
-  };
-  out.p0 = rigid_pose(theta0);
-  // v = ω dp/dθ by a central difference (h = 1e-6 rad: error ~1e-12 relative).
-  // Constant drive and motor start at drive.speed (the motor at its no-load speed), a speed
-  // profile at rest: the profile's driver constraint sets its own velocity.
-  const double w0 = drive == "profile" ? 0.0 : cfg.Quantity("drive.speed");
-  constexpr double kH = 1e-6;
-  out.v0 = w0 * (rigid_pose(theta0 + kH) - rigid_pose(theta0 - kH)) / (2.0 * kH);
+  out.recipe = &FindRecipe(cfg.Text("mechanism.type"));
+  out.recipe->Build(cfg, ideal_joint, &b, &out);
   return out;
 }
 
