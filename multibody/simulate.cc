@@ -1,4 +1,5 @@
-// multibody/simulate.cc — consistent initial conditions, the IDA adapter and the run loop.
+// multibody/simulate.cc — consistent initial conditions, the IDA adapter, sample views, the
+// options and status of a run (its loop: multibody/simulation_loop.cc).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/simulate.h"
@@ -6,22 +7,15 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
 #include "common/error.h"
-#include "common/scope_timer.h"
+#include "multibody/simulate_internal.h"
 
 namespace flexrod::multibody {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double Seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
-}
 
 std::vector<int> Complement(int n, const std::vector<bool>& fixed) {
   std::vector<int> out;
@@ -34,35 +28,6 @@ Mat Columns(const Mat& A, const std::vector<int>& cols) {
   Mat out(A.rows(), static_cast<int>(cols.size()));
   for (size_t k = 0; k < cols.size(); ++k) out.col(static_cast<int>(k)) = A.col(cols[k]);
   return out;
-}
-
-int WorstIndex(const Vec& r) {
-  int worst = -1;
-  double value = -1.0;
-  for (int i = 0; i < r.size(); ++i) {
-    const double a = std::isfinite(r(i)) ? std::abs(r(i)) : std::numeric_limits<double>::infinity();
-    if (a > value) {
-      value = a;
-      worst = i;
-    }
-  }
-  return worst;
-}
-
-// Generic IDA advice plus what it usually means in a mechanism.
-std::string HintForFlag(int flag) {
-  std::string h = IdaFailureHint(flag);
-  if (h.find("singular") != std::string::npos) {
-    h += " — redundant constraints, a dead-centre configuration, or a coordinate without mass "
-         "or constraint";
-  } else if (h.find("residual") != std::string::npos) {
-    h += " — an element reported a problem (e.g. penetration outside its valid range) or "
-         "forces are not finite: check contact stiffness and element parameters";
-  } else if (h.find("Newton") != std::string::npos || h.find("error-test") != std::string::npos) {
-    h += "; check the contact stiffness, the friction regularisation speed and the element "
-         "finite-difference scales";
-  }
-  return h;
 }
 
 constexpr double kRestartPositionTolerance = 1e-12;  // |g|∞ [m or rad] per unit of |p|∞
@@ -134,6 +99,21 @@ void InitializeElements(const Mechanism& model, RunData* data, Vec* y) {
   }
 }
 
+}  // namespace
+
+int WorstIndex(const Vec& r) {
+  int worst = -1;
+  double value = -1.0;
+  for (int i = 0; i < r.size(); ++i) {
+    const double a = std::isfinite(r(i)) ? std::abs(r(i)) : std::numeric_limits<double>::infinity();
+    if (a > value) {
+      value = a;
+      worst = i;
+    }
+  }
+  return worst;
+}
+
 double InitialEnergy(const Mechanism& model, RunData* data, const Vec& y) {
   UpdateKinematics(model, data, y.data());
   const double saved = data->reference_energy;
@@ -142,8 +122,6 @@ double InitialEnergy(const Mechanism& model, RunData* data, const Vec& y) {
   data->reference_energy = saved;
   return e;
 }
-
-}  // namespace
 
 // ---- initial conditions -------------------------------------------------------------------------
 void InitialConditionSpec::Validate(const Mechanism& model) const {
@@ -210,6 +188,20 @@ void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double 
                          " s: the residual failed");
   }
   yp->tail(nz) = -r.tail(nz);
+}
+
+void ProjectOntoConstraints(const Mechanism& model, RunData* data, double t,
+                            const std::vector<int>& movable, Vec* y, Vec* yp) {
+  const int np = model.num_coordinates();
+  Vec p = y->head(np), v = y->segment(np, np);
+  const std::string context = "restart at t = " + FormatValue(t) + " s";
+  SolvePositionConstraints(model, data, t, movable,
+                           kRestartPositionTolerance * std::max(1.0, p.lpNorm<Eigen::Infinity>()),
+                           kRestartNewtonIterations, context, &p);
+  SolveVelocityConstraints(model, data, t, p, movable, context, &v);
+  y->head(np) = p;
+  y->segment(np, np) = v;
+  ComputeConsistentDerivatives(model, data, t, y, yp);
 }
 
 ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, double t0,
@@ -596,291 +588,6 @@ SimulationStatus Simulate(const Mechanism& model, RunData* data, const InitialCo
     return status;
   }
   return Simulate(model, data, state, options, callbacks);
-}
-
-SimulationStatus Simulate(const Mechanism& model, RunData* data, const ConsistentState& state,
-                          const SimulationOptions& options, const SimulationCallbacks& callbacks) {
-  const auto wall0 = Clock::now();
-  options.Validate(model);
-  FLEXROD_ASSERT(data->model == &model);
-  const int N = model.size(), np = model.num_coordinates();
-  Require(state.y.size() == N && state.yp.size() == N, "simulation.state", state.y.size(),
-          "must have model.size() entries");
-  const double t0 = state.t, t_end = options.t_end;
-  Require(t_end > t0, "simulation.t_end", t_end, "must be > the start time of the state");
-
-  SimulationStatus status;
-  status.velocity_tol_scale =
-      options.velocity_tol_scale > 0.0 ? options.velocity_tol_scale : AutoVelocityTolScale(model);
-  data->time_elements = options.time_elements;
-  for (ElementScratch& es : data->elements) es.seconds = 0.0;
-  PrescribedMotion prescribed(model, options.eliminate_prescribed);
-  MechanismDae dae(model, data, prescribed, options.index_event, status.velocity_tol_scale,
-                   options.energy_tol_scale);
-  IdaIntegrator ida(&dae, options.integrator);
-  status.linear_solver = ida.linear_solver();
-  data->reference_energy = InitialEnergy(model, data, state.y);
-
-  // IDA integrates the kept unknowns (size n); everything else sees the full layout (size N).
-  const int n = prescribed.size();
-  status.unknowns = n;
-  Vec yr(n), ypr(n);                     // reduced state / dense output
-  Vec ybuf = state.y, ypbuf = state.yp;  // full dense-output buffers
-  Vec yev(N), ypev(N);                   // full event/restart state
-  auto initialize = [&](double t, const Vec& y, const Vec& yp) {
-    prescribed.StartSegment(t);
-    prescribed.Reduce(y.data(), yr.data());
-    prescribed.Reduce(yp.data(), ypr.data());
-    ida.Initialize(t, yr.data(), ypr.data());
-  };
-  // The integrator's current (or an interpolated reduced) state in the full layout.
-  auto expand_current = [&](double t, Vec* y, Vec* yp) {
-    prescribed.Expand(t, ida.y(), ida.yp(), y->data(), yp->data());
-  };
-  initialize(t0, state.y, state.yp);
-
-  std::vector<double> stops = model.Breakpoints(t0, t_end);
-  stops.push_back(t_end);
-  size_t stop_index = 0;
-  ida.SetStopTime(stops[0]);
-
-  // Sample grid t_k = grid_start + k / rate.
-  const double dt = 1.0 / options.sample_rate;
-  bool grid_active = !options.start_sampling_at_index;
-  double grid_start = options.sample_start;
-  long k_next = 0;
-  auto first_index_at_or_after = [&](double t) {
-    return std::max(0L, static_cast<long>(std::ceil((t - grid_start) / dt - 1e-9)));
-  };
-  if (grid_active) k_next = first_index_at_or_after(t0);
-  double output_seconds = 0.0;
-  const double t_fuzz = 1e-12 * std::max(1.0, std::abs(t_end));
-
-  auto emit = [&](double t, const double* y, const double* yp) {
-    ++status.num_samples;
-    if (callbacks.on_sample) callbacks.on_sample(SampleView(model, data, t, y, yp));
-  };
-  auto emit_up_to = [&](double t_ret, bool from_dense) {
-    if (!grid_active) return;
-    const ScopeTimer timer(&output_seconds);
-    bool cached = false;
-    for (;;) {
-      const double ts = grid_start + static_cast<double>(k_next) * dt;
-      if (ts > t_ret + t_fuzz || ts > t_end + t_fuzz) break;
-      if (from_dense) {
-        if (!cached) {
-          ida.CacheStepPolynomial();  // one set of IDAGetDky calls per step, not per sample
-          cached = true;
-        }
-        const double te = std::min(ts, t_ret);
-        ida.EvaluateStepPolynomial(te, ybuf.data(), ypbuf.data(),
-                                   prescribed.kept_unknowns().data());
-        prescribed.ExpandPrescribed(te, ybuf.data(), ypbuf.data());
-        emit(ts, ybuf.data(), ypbuf.data());
-      } else {
-        emit(ts, state.y.data(), state.yp.data());
-      }
-      ++k_next;
-    }
-  };
-  double t_now = t0;  // time of the integrator's returned state (ida.y())
-  auto fill_failure = [&](SimulationOutcome outcome, const std::string& message,
-                          const std::string& hint, double t_fail) {
-    status.outcome = outcome;
-    status.message = message;
-    status.hint = hint;
-    status.t_reached = t_fail;
-    Vec y(N), yp(N);
-    expand_current(t_now, &y, &yp);  // the last state IDA returned
-    status.norm_coordinates = y.head(np).norm();
-    status.norm_velocities = y.segment(np, np).norm();
-    status.norm_multipliers = y.segment(model.lambda_offset(), model.num_constraints()).norm();
-    status.failure_state.clear();
-    for (int offset : {0, np}) {
-      for (const Body& b : model.bodies()) {
-        for (int c : {kX, kY, kTheta}) {
-          const int i = offset + b.coordinate(c);
-          status.failure_state.emplace_back(model.VariableName(i), y(i));
-        }
-      }
-    }
-    Vec r(N);
-    CalcResidual(model, data, t_now, y.data(), yp.data(), r.data());
-    status.worst_residual_index = WorstIndex(r);
-    if (status.worst_residual_index >= 0) {
-      status.worst_residual = r(status.worst_residual_index);
-      status.worst_residual_variable = model.VariableName(status.worst_residual_index);
-    }
-    ida.WorstLocalError(&status.worst_error_index, &status.worst_weighted_error);
-    if (status.worst_error_index >= 0) {
-      status.worst_error_index = prescribed.kept_unknowns()[status.worst_error_index];
-      status.worst_error_variable = model.VariableName(status.worst_error_index);
-    }
-  };
-  // Coordinates the restart projection may move: all but the elastic ones (as the initial
-  // conditions), so the correction is the rigid-body motion that closes the joints.
-  std::vector<bool> elastic(np, false);
-  for (const Body& b : model.bodies())
-    for (int k = 0; k < b.num_modes; ++k) elastic[b.coordinate(kFirstMode + k)] = true;
-  const std::vector<int> projected = Complement(np, elastic);
-  auto restart = [&](double t) {
-    // IDA's state meets the constraints only to its tolerance; restarting from it unprojected
-    // can leave the first step no consistent start (IDA_ERR_FAIL at h ~ 1e-19 after a contact
-    // onset on the rigid rig). Project p onto g = 0 and v onto G v + g_t = 0 first.
-    Vec p = yev.head(np), v = yev.segment(np, np);
-    const std::string context = "restart at t = " + FormatValue(t) + " s";
-    SolvePositionConstraints(model, data, t, projected,
-                             kRestartPositionTolerance * std::max(1.0, p.lpNorm<Eigen::Infinity>()),
-                             kRestartNewtonIterations, context, &p);
-    SolveVelocityConstraints(model, data, t, p, projected, context, &v);
-    yev.head(np) = p;
-    yev.segment(np, np) = v;
-    ComputeConsistentDerivatives(model, data, t, &yev, &ypev);
-    initialize(t, yev, ypev);
-    ida.SetStopTime(stops[stop_index]);
-  };
-
-  emit_up_to(t0, false);
-  long steps = 0;
-  int* roots = nullptr;
-  std::vector<int> roots_found(std::max(1, dae.num_roots()), 0);
-  roots = roots_found.data();
-  const int index_root = dae.index_root();
-  int stalls = 0;  // consecutive kRootStall re-initialisations
-  constexpr int kMaxRootStalls = 3;
-
-  // The solution point at t_now in yev/ypev, for on_step (each outcome below refreshes them).
-  auto report_step = [&] {
-    if (callbacks.on_step)
-      callbacks.on_step(SampleView(model, data, t_now, yev.data(), ypev.data()));
-  };
-  // The interval view of each accepted step (on_step_interval), built once: its polynomial is
-  // cached on the first evaluation inside the step.
-  bool step_polynomial_cached = false;
-  StepInterpolant step_interval(
-      model, data,
-      [&](double t, double* y, double* yp) {
-        if (!step_polynomial_cached) {
-          ida.CacheStepPolynomial();
-          step_polynomial_cached = true;
-        }
-        ida.EvaluateStepPolynomial(t, y, yp, prescribed.kept_unknowns().data());
-        prescribed.ExpandPrescribed(t, y, yp);
-      },
-      &ybuf, &ypbuf);
-  try {
-    for (;;) {
-      const double t_before = t_now;
-      const StepResult res = ida.Step(t_end);
-      if (res.outcome != StepOutcome::kRootStall) {
-        t_now = res.t;
-        stalls = 0;
-      }
-      if (res.outcome == StepOutcome::kStep) ++steps;
-      emit_up_to(t_now, true);
-      if (res.outcome == StepOutcome::kStep && callbacks.on_step_interval) {
-        step_polynomial_cached = false;
-        step_interval.SetInterval(t_before, t_now);
-        callbacks.on_step_interval(step_interval);
-      }
-      if (res.outcome == StepOutcome::kStep && callbacks.on_step) {
-        expand_current(t_now, &yev, &ypev);
-        report_step();
-      }
-      if (res.outcome == StepOutcome::kRoot) {
-        ida.RootInfo(roots);
-        expand_current(t_now, &yev, &ypev);
-        UpdateKinematics(model, data, yev.data());
-        bool must_restart = false;
-        for (const ElementSlot& e : model.elements()) {
-          for (int k = 0; k < e.num_roots; ++k) {
-            const int dir = roots[e.root_offset + k];
-            if (dir == 0) continue;
-            must_restart |= e.element->OnRoot(k, dir, t_now, data->markers[e.marker_i].kin,
-                                              data->markers[e.marker_j].kin,
-                                              yev.data() + model.z_offset() + e.state_offset,
-                                              data->element_memory.data() + e.memory_offset);
-          }
-        }
-        if (index_root >= 0 && roots[index_root] != 0) {
-          const int ith = model.coordinate(options.index_event->body, kTheta);
-          IndexCrossing c;
-          c.t = t_now;
-          c.revolution =
-              std::lround((yev(ith) - options.index_event->angle) / (2.0 * std::numbers::pi));
-          c.speed = yev(np + ith);
-          status.index_crossings.push_back(c);
-          if (!grid_active && t_now >= options.sample_start - t_fuzz) {
-            grid_active = true;
-            grid_start = t_now;
-            k_next = 0;
-            emit_up_to(t_now, true);
-          }
-          if (callbacks.on_index) {
-            callbacks.on_index(c, SampleView(model, data, t_now, yev.data(), ypev.data()));
-          }
-        }
-        if (must_restart && t_end - t_now > t_fuzz) restart(t_now);
-        report_step();
-      } else if (res.outcome == StepOutcome::kRootStall) {
-        // y still holds the solution at the last return (IDA has not stepped since).
-        if (++stalls > kMaxRootStalls) {
-          throw IntegratorFailure(
-              "IDA cannot continue past a root function that stays zero at t = " +
-                  FormatValue(t_now) + " s (" + std::to_string(kMaxRootStalls) +
-                  " re-initialisations did not help)",
-              -22, "IDA_ILL_INPUT", t_now);
-        }
-        expand_current(t_now, &yev, &ypev);
-        restart(t_now);
-        ++status.root_stall_restarts;
-        continue;
-      } else if (res.outcome == StepOutcome::kStopTime) {
-        expand_current(t_now, &yev, &ypev);
-        if (stop_index + 1 >= stops.size() || t_end - t_now <= t_fuzz) {  // t_end reached
-          report_step();
-          break;
-        }
-        ++stop_index;
-        restart(t_now);  // speed-profile knot: the prescribed acceleration jumps
-        report_step();
-      }
-      if (t_end - t_now <= t_fuzz) break;
-      if (options.max_steps > 0 && steps >= options.max_steps) {
-        fill_failure(SimulationOutcome::kStepLimit,
-                     "step budget of " + std::to_string(options.max_steps) + " steps exhausted",
-                     "increase the step budget (sim.max_steps), loosen tolerances or check for "
-                     "chattering events",
-                     t_now);
-        break;
-      }
-      if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) {
-        fill_failure(SimulationOutcome::kWallTimeLimit, "wall-clock budget exhausted",
-                     "increase the wall-clock budget (sim.max_wall_time), loosen tolerances or "
-                     "shorten the simulated time",
-                     t_now);
-        break;
-      }
-      if (options.stop != nullptr && options.stop->load(std::memory_order_relaxed)) {
-        fill_failure(SimulationOutcome::kInterrupted, "interrupted by the caller",
-                     "run it again; nothing is wrong with the input", t_now);
-        break;
-      }
-    }
-    if (status.outcome == SimulationOutcome::kCompleted) status.t_reached = t_now;
-  } catch (const IntegratorFailure& e) {
-    fill_failure(SimulationOutcome::kIntegratorFailure, e.what(), HintForFlag(e.flag()), e.time());
-  } catch (const NumericalError& e) {
-    fill_failure(SimulationOutcome::kIntegratorFailure, e.what(),
-                 "a restart or an IDA set-up call failed: check the model near this time", t_now);
-  }
-  status.stats = ida.stats();
-  status.output_seconds = output_seconds;
-  if (options.time_elements) {
-    for (const ElementScratch& es : data->elements) status.element_seconds.push_back(es.seconds);
-  }
-  status.wall_seconds = Seconds(wall0, Clock::now());
-  return status;
 }
 
 }  // namespace flexrod::multibody
