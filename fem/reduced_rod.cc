@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Craig–Bampton reduction: Craig & Bampton, AIAA J. 6 (1968) 1313–1319. Basis
-//   Φ = [ I 0 ; Ψ Φ_k ] on (interface, interior) dofs, Ψ = −K_II⁻¹ K_IB (static constraint
-//   modes), Φ_k the k lowest fixed-interface modes of (K_II, M_II).
+// fem/reduced_rod.cc — a rod reduced to a basis (full, free–free, Craig–Bampton: the basis in
+// fem/craig_bampton.cc), its matrices, planar inertia shape integrals, markers, gauges and
+// elongation space, and the reduction's quality checks (its file: fem/reduced_rod_file.cc).
 #include "fem/reduced_rod.h"
 
 #include <Eigen/SVD>
@@ -14,16 +14,15 @@
 #include "common/error.h"
 #include "common/hdf5.h"
 #include "fem/eigensolver.h"
+#include "fem/reduction_detail.h"
 #include "fem/sparse_solver.h"
 
 namespace flexrod::fem {
-namespace {
+namespace reduction_detail {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 /// Eigenvalues below this fraction of the largest kept one count as rigid-body modes.
 constexpr double kRigidModeRelTol = 1e-8;
-/// Above this many interior dofs ARPACK is used for the fixed-interface modes.
-constexpr int kDenseEigenLimit = 600;
 
 /// Gauss–Legendre 4-point rule on [0, 1]: exact for polynomials of degree 7, i.e. for the
 /// products of two cubic Hermite interpolants (ffrf-planar.md).
@@ -69,64 +68,7 @@ EigenResult LowestModes(const SpMat& K, const SpMat& M, int count, double cutoff
   return SolveEigenArpack(K, M, req);
 }
 
-/// Selection matrix columns: dense sub-block extraction of a sparse matrix.
-/// X = A⁻¹ B for a symmetric positive definite banded A, by a band Cholesky factorisation in
-/// long double (x87 extended precision, ε ≈ 1.1e-19). Returns false if A's half-bandwidth
-/// exceeds `max_band` (the caller then uses the sparse solver). A beam's interior stiffness has
-/// cond ~ (number of elements)⁴ (≈1e16 at 10 000 elements): the constraint modes Ψ solved in
-/// double lost enough digits to put the reduced fundamental frequency 3e-3 off (1.6e-5 at
-/// 1 000 elements, where the modal truncation dominates).
-constexpr int kExtendedBandLimit = 64;  // node-wise dof numbering: 2 × 6 dofs per node at most
-
-bool SolveBandedExtended(const SpMat& A, const Mat& B, Mat* X, int max_band) {
-  const int n = static_cast<int>(A.rows());
-  int band = 0;
-  for (int c = 0; c < A.outerSize(); ++c) {
-    for (SpMat::InnerIterator it(A, c); it; ++it)
-      band = std::max(band, static_cast<int>(std::abs(it.row() - c)));
-  }
-  if (band > max_band) return false;
-  const int w = band + 1;  // L(i, j), j in [i − band, i], stored at i·w + (j − i + band)
-  std::vector<long double> L(static_cast<size_t>(n) * w, 0.0L);
-  auto at = [&](int i, int j) -> long double& {
-    return L[static_cast<size_t>(i) * w + (j - i + band)];
-  };
-  for (int c = 0; c < A.outerSize(); ++c) {
-    for (SpMat::InnerIterator it(A, c); it; ++it) {
-      if (it.row() >= c) at(static_cast<int>(it.row()), c) = it.value();
-    }
-  }
-  for (int j = 0; j < n; ++j) {
-    long double d = at(j, j);
-    for (int k = std::max(0, j - band); k < j; ++k) d -= at(j, k) * at(j, k);
-    if (!(d > 0.0L))
-      throw NumericalError("constraint modes: the interior stiffness is not positive definite");
-    const long double ljj = std::sqrt(d);
-    at(j, j) = ljj;
-    for (int i = j + 1; i <= std::min(n - 1, j + band); ++i) {
-      long double v = at(i, j);
-      for (int k = std::max(0, i - band); k < j; ++k) v -= at(i, k) * at(j, k);
-      at(i, j) = v / ljj;
-    }
-  }
-  X->resize(n, B.cols());
-  std::vector<long double> y(n);
-  for (int c = 0; c < B.cols(); ++c) {
-    for (int i = 0; i < n; ++i) {  // L y = b
-      long double v = B(i, c);
-      for (int k = std::max(0, i - band); k < i; ++k) v -= at(i, k) * y[k];
-      y[i] = v / at(i, i);
-    }
-    for (int i = n - 1; i >= 0; --i) {  // Lᵀ x = y
-      long double v = y[i];
-      for (int k = i + 1; k <= std::min(n - 1, i + band); ++k) v -= at(k, i) * y[k];
-      y[i] = v / at(i, i);
-    }
-    for (int i = 0; i < n; ++i) (*X)(i, c) = static_cast<double>(y[i]);
-  }
-  return true;
-}
-
+/// The sub-block A(rows, cols) of a sparse matrix.
 SpMat SubMatrix(const SpMat& A, const std::vector<int>& rows, const std::vector<int>& cols) {
   std::vector<int> rmap(A.rows(), -1), cmap(A.cols(), -1);
   for (size_t i = 0; i < rows.size(); ++i) rmap[rows[i]] = static_cast<int>(i);
@@ -166,64 +108,6 @@ int CountRigid(const Vec& eigenvalues) {
 /// Element dof indices of a planar element.
 std::array<int, 6> PlanarElementDofs(int e) {
   return {3 * e, 3 * e + 1, 3 * e + 2, 3 * e + 3, 3 * e + 4, 3 * e + 5};
-}
-
-/// The fixed-interface static responses of a planar rod to the axial inertia loads of a
-/// rigid motion: f₁ = M r_u (uniform axial acceleration) and f₂ = M (x r_u) (the centripetal
-/// load θ̇² x), with the frame's and the interface's dofs held, so that together with the
-/// interface's axial constraint mode the basis carries an axial force linear, then quadratic
-/// in x. Each is made M-orthogonal to `basis` (Gram–Schmidt, twice) and M-normalised; one
-/// that the basis already spans (to 1e-8 of its norm) is dropped.
-Mat AxialLoadModes(const RodSpec& rod, const AssembledRod& A, const std::vector<int>& interior,
-                   const std::vector<int>& boundary, const Mat& basis) {
-  (void)boundary;
-  const int ndof = rod.num_dofs();
-  const int ni = static_cast<int>(interior.size());
-  Mat loads = Mat::Zero(ndof, 2);
-  for (int i = 0; i < rod.num_nodes(); ++i) {
-    loads(3 * i, 0) = 1.0;
-    loads(3 * i, 1) = rod.node_x(i);
-  }
-  const Mat f = A.M * loads;
-  Mat rhs(ni, 2);
-  for (int i = 0; i < ni; ++i) rhs.row(i) = f.row(interior[i]);
-  Mat x(ni, 2);
-  auto chol = MakeSparseSolver(SparseSolverKind::kCholmod);
-  chol->Factorize(SubMatrix(A.K, interior, interior));
-  chol->Solve(rhs, &x);
-  Mat out = Mat::Zero(ndof, 2);
-  int kept = 0;
-  Mat accepted = basis;
-  for (int c = 0; c < 2; ++c) {
-    Vec psi = Vec::Zero(ndof);
-    for (int i = 0; i < ni; ++i) psi(interior[i]) = x(i, c);
-    const double norm0 = std::sqrt(psi.dot(A.M * psi));
-    for (int pass = 0; pass < 2; ++pass) {
-      const Mat MB = A.M * accepted;
-      const Mat G = accepted.transpose() * MB;
-      const Vec coeff = G.ldlt().solve(MB.transpose() * psi);
-      psi -= accepted * coeff;
-    }
-    const double norm = std::sqrt(psi.dot(A.M * psi));
-    if (!(norm > 1e-8 * norm0)) continue;
-    psi /= norm;
-    out.col(kept++) = psi;
-    accepted.conservativeResize(Eigen::NoChange, accepted.cols() + 1);
-    accepted.rightCols(1) = psi;
-  }
-  return out.leftCols(kept);
-}
-
-/// Node shape rows of a planar rod: rows (u, v) and φ of the basis at every node.
-std::vector<MarkerShape> PlanarNodeShapes(const RodSpec& rod, const Mat& basis) {
-  std::vector<MarkerShape> nodes(rod.num_nodes());
-  for (int i = 0; i < rod.num_nodes(); ++i) {
-    MarkerShape& m = nodes[i];
-    m.position = Vec2(rod.node_x(i), 0.0);
-    m.S_u = basis.middleRows(3 * i, 2);
-    m.S_phi = basis.row(3 * i + 2);
-  }
-  return nodes;
 }
 
 PlanarInertia ComputePlanarInertia(const RodSpec& rod, const Mat& basis,
@@ -300,7 +184,56 @@ PlanarInertia ComputePlanarInertia(const RodSpec& rod, const Mat& basis,
   return in;
 }
 
-}  // namespace
+/// The free–free basis: the lowest elastic modes of the rod with only spec.fixed_dofs held (the
+/// rigid-body modes dropped).
+Mat FreeFreeBasis(const RodSpec& rod, const ReductionSpec& spec, const AssembledRod& A,
+                  const std::vector<int>& free, const std::set<int>& fixed) {
+  const int ndof = rod.num_dofs(), dpn = rod.dofs_per_node();
+  const int nfree = static_cast<int>(free.size());
+  const SpMat Kf = Restrict(A.K, free), Mf = Restrict(A.M, free);
+  const int rigid_expected = fixed.empty() ? (dpn == 3 ? 3 : 6) : 0;
+  const int want = spec.cutoff_hz > 0.0 ? 0 : spec.num_modes + rigid_expected;
+  Require(spec.cutoff_hz > 0.0 || want <= nfree, "reduction.modes", spec.num_modes,
+          "more modes than the " + std::to_string(nfree - rigid_expected) +
+              " free dofs of the rod's mesh (rod.elements = " + std::to_string(rod.num_elements) +
+              ")");
+  EigenResult er;
+  if (spec.cutoff_hz > 0.0) {
+    er = LowestModes(Kf, Mf, 0, spec.cutoff_hz);
+  } else {
+    EigenRequest req;
+    req.num_modes = want;
+    er = nfree <= kDenseEigenLimit ? SolveEigenDense(Mat(Kf), Mat(Mf), want)
+                                   : SolveEigenArpack(Kf, Mf, req);
+  }
+  const int rigid = CountRigid(er.eigenvalues);
+  const int keep = static_cast<int>(er.eigenvalues.size()) - rigid;
+  Mat basis = Mat::Zero(ndof, keep);
+  for (int j = 0; j < nfree; ++j) basis.row(free[j]) = er.eigenvectors.row(j).segment(rigid, keep);
+  return basis;
+}
+
+}  // namespace reduction_detail
+
+using reduction_detail::ComputePlanarInertia;
+using reduction_detail::CountRigid;
+using reduction_detail::CraigBamptonBasis;
+using reduction_detail::FreeFreeBasis;
+using reduction_detail::Jrot;
+using reduction_detail::kDenseEigenLimit;
+using reduction_detail::PlanarElementDofs;
+using reduction_detail::SmallEigen;
+using reduction_detail::ToHz;
+std::vector<MarkerShape> PlanarNodeShapes(const RodSpec& rod, const Mat& basis) {
+  std::vector<MarkerShape> nodes(rod.num_nodes());
+  for (int i = 0; i < rod.num_nodes(); ++i) {
+    MarkerShape& m = nodes[i];
+    m.position = Vec2(rod.node_x(i), 0.0);
+    m.S_u = basis.middleRows(3 * i, 2);
+    m.S_phi = basis.row(3 * i + 2);
+  }
+  return nodes;
+}
 
 ReductionMethod ReductionMethodFromString(const std::string& key, const std::string& value) {
   if (value == "craig-bampton") return ReductionMethod::kCraigBampton;
@@ -434,8 +367,6 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
   spec.Validate(rod);
   const AssembledRod A = AssembleRod(rod);
   const int ndof = rod.num_dofs();
-  const int dpn = rod.dofs_per_node();
-
   std::set<int> fixed(spec.fixed_dofs.begin(), spec.fixed_dofs.end());
   const std::vector<int> free = FreeDofs(ndof, spec.fixed_dofs);
   const int nfree = static_cast<int>(free.size());
@@ -452,111 +383,13 @@ ReducedRod Reduce(const RodSpec& rod, const ReductionSpec& spec) {
       for (int j = 0; j < nfree; ++j) basis(free[j], j) = 1.0;
       break;
     }
-    case ReductionMethod::kFreeFree: {
-      const SpMat Kf = Restrict(A.K, free), Mf = Restrict(A.M, free);
-      const int rigid_expected = fixed.empty() ? (dpn == 3 ? 3 : 6) : 0;
-      const int want = spec.cutoff_hz > 0.0 ? 0 : spec.num_modes + rigid_expected;
-      Require(spec.cutoff_hz > 0.0 || want <= nfree, "reduction.modes", spec.num_modes,
-              "more modes than the " + std::to_string(nfree - rigid_expected) +
-                  " free dofs of the rod's mesh (rod.elements = " +
-                  std::to_string(rod.num_elements) + ")");
-      EigenResult er;
-      if (spec.cutoff_hz > 0.0) {
-        er = LowestModes(Kf, Mf, 0, spec.cutoff_hz);
-      } else {
-        EigenRequest req;
-        req.num_modes = want;
-        er = nfree <= kDenseEigenLimit ? SolveEigenDense(Mat(Kf), Mat(Mf), want)
-                                       : SolveEigenArpack(Kf, Mf, req);
-      }
-      const int rigid = CountRigid(er.eigenvalues);
-      const int keep = static_cast<int>(er.eigenvalues.size()) - rigid;
-      basis = Mat::Zero(ndof, keep);
-      for (int j = 0; j < nfree; ++j)
-        basis.row(free[j]) = er.eigenvectors.row(j).segment(rigid, keep);
+    case ReductionMethod::kFreeFree:
+      basis = FreeFreeBasis(rod, spec, A, free, fixed);
       break;
-    }
     case ReductionMethod::kCraigBampton:
-    case ReductionMethod::kOrthonormalCraigBampton: {
-      std::vector<int> boundary, interior;
-      std::set<int> bset;
-      for (int k : spec.interface_nodes) {
-        for (int d = 0; d < dpn; ++d) {
-          if (!fixed.count(k * dpn + d)) bset.insert(k * dpn + d);
-        }
-      }
-      boundary.assign(bset.begin(), bset.end());
-      for (int d : free) {
-        if (!bset.count(d)) interior.push_back(d);
-      }
-      const int nb = static_cast<int>(boundary.size());
-      const int ni = static_cast<int>(interior.size());
-      Require(spec.cutoff_hz > 0.0 || spec.num_modes <= ni, "reduction.modes", spec.num_modes,
-              "more modes than the " + std::to_string(ni) +
-                  " interior dofs of the rod's mesh (rod.elements = " +
-                  std::to_string(rod.num_elements) + ")");
-      const SpMat Kii = SubMatrix(A.K, interior, interior);
-      const SpMat Mii = SubMatrix(A.M, interior, interior);
-      const SpMat Kib = SubMatrix(A.K, interior, boundary);
-      Mat Psi(ni, nb);
-      if (ni > 0 && nb > 0) {
-        const Mat rhs = -(Kib * Mat::Identity(nb, nb));
-        if (!SolveBandedExtended(Kii, rhs, &Psi, kExtendedBandLimit)) {
-          auto chol = MakeSparseSolver(SparseSolverKind::kCholmod);
-          chol->Factorize(Kii);
-          chol->Solve(rhs, &Psi);
-        }
-      }
-      EigenResult fixed_interface;
-      if (ni > 0) fixed_interface = LowestModes(Kii, Mii, spec.num_modes, spec.cutoff_hz);
-      const int k = ni > 0 ? static_cast<int>(fixed_interface.eigenvalues.size()) : 0;
-      basis = Mat::Zero(ndof, nb + k);
-      for (int i = 0; i < nb; ++i) basis(boundary[i], i) = 1.0;
-      for (int i = 0; i < ni; ++i) {
-        basis.row(interior[i]).head(nb) = Psi.row(i);
-        if (k > 0) basis.row(interior[i]).tail(k) = fixed_interface.eigenvectors.row(i);
-      }
-      // Reduced stiffness from the Craig–Bampton block structure (Craig & Bampton 1968):
-      // K_r = diag(K_bb + K_bi Ψ, Λ); the coupling Φ_mᵀ(K_ii Ψ + K_ib) is zero and Φ_m is
-      // M-orthonormal. The projection Φᵀ K Φ forms the same matrix from products of K's
-      // largest entries (12EI/h³ ≈ 6e12 N/m at 10 000 elements) with smooth shapes, and its
-      // cancellation alone put the reduced fundamental frequency 1e-2 below the full model's
-      // there; the Schur complement cancels once, against the boundary entries only.
-      Mat Kcb = Mat::Zero(nb + k, nb + k);
-      if (nb > 0) {
-        Kcb.topLeftCorner(nb, nb) = Mat(SubMatrix(A.K, boundary, boundary));
-        if (ni > 0) Kcb.topLeftCorner(nb, nb) += Mat(SpMat(Kib.transpose())) * Psi;
-      }
-      for (int j = 0; j < k; ++j) Kcb(nb + j, nb + j) = fixed_interface.eigenvalues(j);
-      Kcb = (0.5 * (Kcb + Kcb.transpose())).eval();
-      structured_K = Kcb;
-      if (spec.axial_load_modes && dpn == 3 && ni > 0) {
-        // Fixed-interface static responses to the axial inertia loads of a rigid motion
-        // (uniform axial acceleration, and the centripetal load growing with x): ψ = K_ii⁻¹ f_i,
-        // M-orthogonalised against the basis (AxialLoadModes).
-        const Mat psi = AxialLoadModes(rod, A, interior, boundary, basis);
-        if (psi.cols() > 0) {
-          const int na = static_cast<int>(psi.cols());
-          Mat widened = Mat::Zero(ndof, nb + k + na);
-          widened.leftCols(nb + k) = basis;
-          widened.rightCols(na) = psi;
-          basis = std::move(widened);
-          structured_K.reset();  // K_r by projection: the static modes couple to the boundary
-        }
-      }
-      if (spec.method == ReductionMethod::kOrthonormalCraigBampton) {
-        // Diagonalise the reduced pair; the basis becomes M-orthonormal with K diagonal. When
-        // the frame carries rigid-body motion (no dofs fixed), rigid-body modes are dropped.
-        const Mat Mr = basis.transpose() * (A.M * basis);
-        const Mat Kr = structured_K ? Kcb : Mat(basis.transpose() * (A.K * basis));
-        const EigenResult er = SmallEigen(0.5 * (Kr + Kr.transpose()), 0.5 * (Mr + Mr.transpose()));
-        const int rigid = fixed.empty() ? CountRigid(er.eigenvalues) : 0;
-        const Mat E = er.eigenvectors.rightCols(er.eigenvalues.size() - rigid);
-        basis = basis * E;
-        structured_K = (E.transpose() * Kr * E).eval();
-      }
+    case ReductionMethod::kOrthonormalCraigBampton:
+      CraigBamptonBasis(rod, spec, A, free, fixed, &basis, &structured_K);
       break;
-    }
   }
 
   out.K = structured_K ? *structured_K : Mat(basis.transpose() * (A.K * basis));
@@ -652,148 +485,6 @@ std::vector<ModeReportRow> CompareWithFullModel(const ReducedRod& reduced, int n
     rows.push_back(row);
   }
   return rows;
-}
-
-// ---- HDF5 round trip --------------------------------------------------------------------
-namespace {
-
-void WriteRodSpec(const h5::Node& g, const RodSpec& rod) {
-  g.SetAttr("material.name", rod.material.name);
-  g.SetAttr("material.source", rod.material.source);
-  g.SetAttr("material.E", rod.material.youngs_modulus, "Pa");
-  g.SetAttr("material.nu", rod.material.poisson_ratio, "1");
-  g.SetAttr("material.rho", rod.material.density, "kg/m^3");
-  g.SetAttr("material.yield", rod.material.yield_strength, "Pa");
-  g.SetAttr("rod.thickness", rod.section.thickness, "m");
-  g.SetAttr("rod.height", rod.section.height, "m");
-  g.SetAttr("rod.bending", ToString(rod.section.in_plane));
-  g.SetAttr("rod.length", rod.length, "m");
-  g.SetAttr("rod.elements", rod.num_elements, "1");
-  g.SetAttr("rod.element",
-            rod.theory == BeamTheory::kTimoshenko ? "timoshenko" : "euler-bernoulli");
-  g.SetAttr("rod.mass", rod.mass_kind == MassKind::kLumped ? "lumped" : "consistent");
-  g.SetAttr("rod.dim", rod.dim == MeshDim::kSpatial ? "spatial" : "planar");
-  g.SetAttr("rod.attachments", static_cast<double>(rod.attachments.size()), "1");
-  for (size_t i = 0; i < rod.attachments.size(); ++i) {
-    const RigidAttachment& a = rod.attachments[i];
-    const std::string p = "attachment" + std::to_string(i) + ".";
-    g.SetAttr(p + "name", a.name);
-    g.SetAttr(p + "node", a.node, "1");
-    g.SetAttr(p + "mass", a.mass, "kg");
-    g.SetAttr(p + "inertia", a.inertia, "kg*m^2");
-    g.SetAttr(p + "com_x", a.com_offset.x(), "m");
-    g.SetAttr(p + "com_y", a.com_offset.y(), "m");
-  }
-}
-
-RodSpec ReadRodSpec(const h5::Node& g) {
-  RodSpec rod;
-  rod.material.name = g.GetString("material.name");
-  rod.material.source = g.GetString("material.source");
-  rod.material.youngs_modulus = g.GetDouble("material.E");
-  rod.material.poisson_ratio = g.GetDouble("material.nu");
-  rod.material.density = g.GetDouble("material.rho");
-  rod.material.yield_strength = g.GetDouble("material.yield");
-  rod.section.thickness = g.GetDouble("rod.thickness");
-  rod.section.height = g.GetDouble("rod.height");
-  rod.section.in_plane = BendingAxisFromString("rod.bending", g.GetString("rod.bending"));
-  rod.length = g.GetDouble("rod.length");
-  rod.num_elements = static_cast<int>(g.GetDouble("rod.elements"));
-  rod.theory = g.GetString("rod.element") == "timoshenko" ? BeamTheory::kTimoshenko
-                                                          : BeamTheory::kEulerBernoulli;
-  rod.mass_kind = g.GetString("rod.mass") == "lumped" ? MassKind::kLumped : MassKind::kConsistent;
-  rod.dim = g.GetString("rod.dim") == "spatial" ? MeshDim::kSpatial : MeshDim::kPlanar;
-  const int na = static_cast<int>(g.GetDouble("rod.attachments"));
-  for (int i = 0; i < na; ++i) {
-    const std::string p = "attachment" + std::to_string(i) + ".";
-    RigidAttachment a;
-    a.name = g.GetString(p + "name");
-    a.node = static_cast<int>(g.GetDouble(p + "node"));
-    a.mass = g.GetDouble(p + "mass");
-    a.inertia = g.GetDouble(p + "inertia");
-    a.com_offset = Vec2(g.GetDouble(p + "com_x"), g.GetDouble(p + "com_y"));
-    rod.attachments.push_back(a);
-  }
-  return rod;
-}
-
-Vec IntsToVec(const std::vector<int>& v) {
-  Vec out(v.size());
-  for (size_t i = 0; i < v.size(); ++i) out[i] = v[i];
-  return out;
-}
-std::vector<int> VecToInts(const Vec& v) {
-  std::vector<int> out(v.size());
-  for (int i = 0; i < v.size(); ++i) out[i] = static_cast<int>(std::lround(v[i]));
-  return out;
-}
-
-}  // namespace
-
-void WriteReducedRod(const ReducedRod& rr, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    h5::Node f = h5::CreateFile(tmp);
-    f.SetAttr("format", "flexrod reduced rod v3");
-    WriteRodSpec(f, rr.rod);
-    f.SetAttr("reduction.method", ToString(rr.reduction.method));
-    f.SetAttr("reduction.modes", rr.reduction.num_modes, "1");
-    f.SetAttr("reduction.cutoff", rr.reduction.cutoff_hz, "Hz");
-    f.WriteVector("fixed_dofs", IntsToVec(rr.reduction.fixed_dofs), "1");
-    f.WriteVector("interface_nodes", IntsToVec(rr.reduction.interface_nodes), "1");
-    f.WriteMatrix("basis", rr.basis, "1", true);
-    f.WriteMatrix("K", rr.K, "N/m (generalised)");
-    f.WriteMatrix("M", rr.M, "kg (generalised)");
-    f.SetAttr("reduction.axial_load_modes", rr.reduction.axial_load_modes ? 1.0 : 0.0, "1");
-    f.SetAttr("element_axial_stiffness", rr.element_axial_stiffness, "N/m");
-    f.WriteMatrix("element_Kg", Mat(rr.element_Kg), "1/m per N of axial tension");
-    f.WriteVector("frequencies", rr.frequencies_hz, "Hz");
-    const h5::Node in = f.CreateGroup("inertia");
-    in.SetAttr("mass", rr.inertia.mass, "kg");
-    in.SetAttr("J0", rr.inertia.J0, "kg*m^2");
-    in.WriteVector("S0", rr.inertia.S0, "kg*m");
-    in.WriteMatrix("S", rr.inertia.S, "kg");
-    in.WriteVector("I1", rr.inertia.I1, "kg*m");
-    in.WriteVector("Ibar", rr.inertia.Ibar, "kg*m");
-    in.WriteMatrix("Mff", rr.inertia.Mff, "kg");
-    in.WriteMatrix("Stilde", rr.inertia.Stilde, "kg");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    throw NumericalError("could not rename " + tmp + " to " + path);
-  }
-}
-
-ReducedRod ReadReducedRod(const std::string& path) {
-  const h5::Node f = h5::OpenFile(path);
-  if (!f.HasAttr("format") || f.GetString("format") != "flexrod reduced rod v3") {
-    throw InputError("reduced rod file", path, "is not a flexrod reduced rod (format v3)");
-  }
-  ReducedRod rr;
-  rr.rod = ReadRodSpec(f);
-  rr.reduction.method =
-      ReductionMethodFromString("reduction.method", f.GetString("reduction.method"));
-  rr.reduction.num_modes = static_cast<int>(f.GetDouble("reduction.modes"));
-  rr.reduction.cutoff_hz = f.GetDouble("reduction.cutoff");
-  rr.reduction.fixed_dofs = VecToInts(f.ReadVector("fixed_dofs"));
-  rr.reduction.interface_nodes = VecToInts(f.ReadVector("interface_nodes"));
-  rr.basis = f.ReadMatrix("basis");
-  rr.K = f.ReadMatrix("K");
-  rr.M = f.ReadMatrix("M");
-  rr.reduction.axial_load_modes = f.GetDouble("reduction.axial_load_modes") != 0.0;
-  rr.element_axial_stiffness = f.GetDouble("element_axial_stiffness");
-  rr.element_Kg = f.ReadMatrix("element_Kg");
-  rr.frequencies_hz = f.ReadVector("frequencies");
-  const h5::Node in = f.OpenGroup("inertia");
-  rr.inertia.mass = in.GetDouble("mass");
-  rr.inertia.J0 = in.GetDouble("J0");
-  rr.inertia.S0 = in.ReadVector("S0");
-  rr.inertia.S = in.ReadMatrix("S");
-  rr.inertia.I1 = in.ReadVector("I1");
-  rr.inertia.Ibar = in.ReadVector("Ibar");
-  rr.inertia.Mff = in.ReadMatrix("Mff");
-  rr.inertia.Stilde = in.ReadMatrix("Stilde");
-  if (rr.rod.dim == MeshDim::kPlanar) rr.nodes = PlanarNodeShapes(rr.rod, rr.basis);
-  return rr;
 }
 
 }  // namespace flexrod::fem

@@ -62,6 +62,9 @@ struct MarkerShape {
   RowVec S_phi;             ///< 1×n: rotation = S_phi q [rad]
 };
 
+/// The shape rows of every node of a planar rod's basis: rows (u, v) and φ (MarkerShape).
+std::vector<MarkerShape> PlanarNodeShapes(const RodSpec& rod, const Mat& basis);
+
 /// A virtual strain gauge: surface strain ε = (axial + bending) q at position x, fibre y.
 struct StrainGaugeRows {
   std::string name;
