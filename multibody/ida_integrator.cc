@@ -1,5 +1,6 @@
-// multibody/ida_integrator.cc — RAII wrapper over SUNDIALS IDA 6.4. The only file that calls
-// IDA, NVECTOR, SUNMATRIX and SUNLINSOL functions.
+// multibody/ida_integrator.cc — RAII wrapper over SUNDIALS IDA 6.4. The files multibody/ida_*.cc
+// are the only ones that call IDA, NVECTOR, SUNMATRIX and SUNLINSOL functions (the options and
+// flag messages: ida_options.cc; the timed linear solver: ida_timed_solver.cc).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "multibody/ida_integrator.h"
 
@@ -21,6 +22,7 @@
 #include <limits>
 
 #include "common/scope_timer.h"
+#include "multibody/ida_timed_solver.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -44,166 +46,7 @@ T* CheckPointer(T* ptr, const char* call) {
   return ptr;
 }
 
-// ---- a linear solver that times its wrapped solver's setup (factorisation) and solve ---------
-struct TimedContent {
-  SUNLinearSolver inner{nullptr};
-  double* seconds{nullptr};
-  bool klu{false};
-};
-
-TimedContent* Content(SUNLinearSolver S) { return static_cast<TimedContent*>(S->content); }
-
-SUNLinearSolver_Type TimedGetType(SUNLinearSolver S) { return SUNLinSolGetType(Content(S)->inner); }
-SUNLinearSolver_ID TimedGetId(SUNLinearSolver S) { return SUNLinSolGetID(Content(S)->inner); }
-int TimedInitialize(SUNLinearSolver S) { return SUNLinSolInitialize(Content(S)->inner); }
-int TimedSetup(SUNLinearSolver S, SUNMatrix A) {
-  const ScopeTimer timer(Content(S)->seconds);
-  int rc = SUNLinSolSetup(Content(S)->inner, A);
-  if (rc == SUNLS_PACKAGE_FAIL_REC && Content(S)->klu) {
-    // SUNDIALS' KLU set-up re-factors with the pivot sequence of the last full factorisation
-    // and gives up when that sequence meets a zero pivot. The iteration matrix changes
-    // structure in value when a contact opens or closes (its force derivatives vanish or
-    // appear), so an old pivot can be exactly zero on a regular matrix; IDA would then cut
-    // the step to hmin with the same failure every time (seen: rigid rig, 1 mm clearance,
-    // rel_tol 1e-5, right after the first separation). Factor afresh instead.
-    if (SUNLinSol_KLUReInit(Content(S)->inner, A, SUNSparseMatrix_NNZ(A), SUNKLU_REINIT_PARTIAL) ==
-        SUNLS_SUCCESS) {
-      rc = SUNLinSolSetup(Content(S)->inner, A);
-    }
-  }
-  return rc;
-}
-int TimedSolve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, realtype tol) {
-  const ScopeTimer timer(Content(S)->seconds);
-  return SUNLinSolSolve(Content(S)->inner, A, x, b, tol);
-}
-sunindextype TimedLastFlag(SUNLinearSolver S) { return SUNLinSolLastFlag(Content(S)->inner); }
-int TimedSpace(SUNLinearSolver S, long* lrw, long* liw) {
-  return SUNLinSolSpace(Content(S)->inner, lrw, liw);
-}
-int TimedFree(SUNLinearSolver S) {
-  if (S == nullptr) return 0;
-  TimedContent* c = Content(S);
-  if (c != nullptr) {
-    SUNLinSolFree(c->inner);
-    delete c;
-    S->content = nullptr;
-  }
-  SUNLinSolFreeEmpty(S);
-  return 0;
-}
-
-SUNLinearSolver MakeTimedSolver(SUNLinearSolver inner, double* seconds, SUNContext ctx) {
-  SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
-  if (S == nullptr) {
-    SUNLinSolFree(inner);
-    throw NumericalError("SUNLinSolNewEmpty returned NULL");
-  }
-  S->content = new TimedContent{inner, seconds, SUNLinSolGetID(inner) == SUNLINEARSOLVER_KLU};
-  S->ops->gettype = TimedGetType;
-  S->ops->getid = TimedGetId;
-  S->ops->initialize = TimedInitialize;
-  S->ops->setup = TimedSetup;
-  S->ops->solve = TimedSolve;
-  S->ops->lastflag = TimedLastFlag;
-  S->ops->space = TimedSpace;
-  S->ops->free = TimedFree;
-  return S;
-}
-
 }  // namespace
-
-// ---- DaeSystem defaults -------------------------------------------------------------------------
-void DaeSystem::AbsoluteToleranceScales(double* scales) const {
-  for (int i = 0; i < size(); ++i) scales[i] = 1.0;
-}
-
-void DaeSystem::RelativeToleranceCaps(double* caps) const {
-  for (int i = 0; i < size(); ++i) caps[i] = std::numeric_limits<double>::infinity();
-}
-
-void DaeSystem::StepScaledWeightMask(double* mask) const {
-  DifferentialMask(mask);
-  for (int i = 0; i < size(); ++i) mask[i] = mask[i] == 0.0 ? 1.0 : 0.0;
-}
-
-SparsityPattern DaeSystem::JacobianPattern() const {
-  SparsityPattern p;
-  const int n = size();
-  p.size = n;
-  p.col_ptr.resize(n + 1);
-  p.row_index.reserve(static_cast<size_t>(n) * n);
-  for (int c = 0; c <= n; ++c) p.col_ptr[c] = static_cast<int64_t>(c) * n;
-  for (int c = 0; c < n; ++c)
-    for (int r = 0; r < n; ++r) p.row_index.push_back(r);
-  return p;
-}
-
-const char* ToString(LinearSolverKind kind) {
-  switch (kind) {
-    case LinearSolverKind::kAuto:
-      return "auto";
-    case LinearSolverKind::kDense:
-      return "dense";
-    case LinearSolverKind::kKlu:
-      return "klu";
-  }
-  return "?";
-}
-
-void IntegratorOptions::Validate() const {
-  // Below 1e-14 a relative error is under the doubles' reach; below 1e-20 the error weights
-  // 1 / (rel_tol |y| + abs_tol) of components at zero overflow IDA's norms.
-  Require(rel_tol >= 1e-14 && rel_tol < 1.0, "integrator.rel_tol", rel_tol,
-          "must be in [1e-14, 1)");
-  Require(abs_tol >= 1e-20 && std::isfinite(abs_tol), "integrator.abs_tol", abs_tol,
-          "must be finite and >= 1e-20");
-  RequireNonNegative("integrator.max_step", max_step);
-  RequireNonNegative("integrator.initial_step", initial_step);
-  Require(max_order >= 1 && max_order <= 5, "integrator.max_order", max_order, "must be 1..5");
-  Require(max_nonlinear_iterations >= 1, "integrator.max_nonlinear_iterations",
-          max_nonlinear_iterations, "must be >= 1");
-  Require(max_convergence_failures >= 1, "integrator.max_convergence_failures",
-          max_convergence_failures, "must be >= 1");
-  Require(max_error_test_failures >= 1, "integrator.max_error_test_failures",
-          max_error_test_failures, "must be >= 1");
-  Require(nonlinear_convergence_coefficient > 0.0 && nonlinear_convergence_coefficient < 1.0,
-          "integrator.nonlinear_convergence_coefficient", nonlinear_convergence_coefficient,
-          "must be in (0, 1)");
-  RequireNonNegative("integrator.jacobian_refresh_cj_change", jacobian_refresh_cj_change);
-  Require(klu_threshold >= 1, "integrator.klu_threshold", klu_threshold, "must be >= 1");
-}
-
-std::string IdaFlagName(int flag) {
-  char* name = IDAGetReturnFlagName(flag);
-  std::string out = name != nullptr ? name : "IDA flag " + std::to_string(flag);
-  std::free(name);
-  return out;
-}
-
-std::string IdaFailureHint(int flag) {
-  switch (flag) {
-    case IDA_TOO_MUCH_ACC:
-      return "the requested accuracy is beyond machine precision: loosen rel_tol / abs_tol";
-    case IDA_ERR_FAIL:
-      return "repeated error-test failures: tighten tolerances or reduce max_step; look for a "
-             "discontinuity no event catches, or an inconsistent restart";
-    case IDA_CONV_FAIL:
-      return "Newton iterations do not converge: reduce max_step or tighten tolerances; check "
-             "the Jacobian";
-    case IDA_LINIT_FAIL:
-    case IDA_LSETUP_FAIL:
-    case IDA_LSOLVE_FAIL:
-      return "linear solver failure: the iteration matrix is singular";
-    case IDA_RES_FAIL:
-    case IDA_REP_RES_ERR:
-      return "the residual keeps failing (recoverable errors or non-finite values)";
-    case IDA_TOO_MUCH_WORK:
-      return "too many steps: raise the step budget or loosen tolerances";
-    default:
-      return "tighten tolerances / reduce max_step / check the model inputs";
-  }
-}
 
 // ---- Impl: IDA objects and C callbacks ----------------------------------------------------------
 struct IdaIntegrator::Impl {
