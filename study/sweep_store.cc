@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// StoredRun: analysis of a run for the store, HDF5 layout, part files and the store file.
+// StoredRun: HDF5 layout, part files and the store file (the analysis of a run for the store:
+// study/sweep_analysis.cc).
 #include "study/sweep_store.h"
 
 #include <bit>
@@ -22,8 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kFormat = "flexrod-sweep-store 1";
-constexpr const char* kAcc = "slider_acceleration";
-constexpr const char* kCrank = "crank_angle";
 
 /// Every HDF5 call of the sweep goes through this lock: parts are written from worker threads.
 std::recursive_mutex& Hdf5Mutex() {
@@ -123,16 +122,6 @@ StoredPoints ReadPoints(const h5::Node& parent, const std::string& name) {
   return p;
 }
 
-StoredPoints ToStored(const std::vector<TurningPoint>& points) {
-  StoredPoints p;
-  for (const TurningPoint& t : points) {
-    p.time.push_back(t.time);
-    p.crank_angle.push_back(t.crank_angle);
-    p.value.push_back(t.value);
-  }
-  return p;
-}
-
 bool SameBits(double a, double b) {
   return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
@@ -156,13 +145,6 @@ std::string Quote(const std::string& s) {
     q += c;
   }
   return q + "\"";
-}
-
-StoredRun Base(const Config& cfg, const StoreOptions& store) {
-  StoredRun out;
-  out.fingerprint = RunFingerprint(cfg, store);
-  out.input_toml = InputToml(cfg);
-  return out;
 }
 
 }  // namespace
@@ -189,143 +171,6 @@ Config StoredRun::Input() const {
   Config cfg;
   cfg.LoadToml(input_toml, "stored input of run " + std::to_string(id));
   return cfg;
-}
-
-// ---- analysis -------------------------------------------------------------------------------
-
-StoredRun FailedRun(const Config& cfg, const StoreOptions& store, const std::string& status,
-                    const std::string& message) {
-  StoredRun out = Base(cfg, store);
-  out.status = status;
-  out.message = message;
-  out.summary_json = "{}";
-  return out;
-}
-
-StoredRun AnalyseRun(const Config& cfg, const RunResult& run, const StoreOptions& store) {
-  StoredRun out = Base(cfg, store);
-  out.status = run.ok() ? "completed" : multibody::ToString(run.status.outcome);
-  if (!run.ok()) {
-    out.message = "t = " + FormatValue(run.status.t_reached) + " s: " + run.status.message;
-    if (!run.status.hint.empty()) out.message += " (hint: " + run.status.hint + ")";
-  }
-  out.summary_json = run.summary.dump();
-  if (run.summary.contains("wall_time [s]") && run.summary["wall_time [s]"].is_number()) {
-    out.wall_time = run.summary["wall_time [s]"].get<double>();
-  }
-  const TimeSeries& ts = run.channels;
-  const double rate = ts.sample_rate();
-  const double index_angle = cfg.Quantity("sim.index_angle");
-  const bool has_acc = ts.num_samples() >= 3 && ts.HasChannel(kAcc) && ts.HasChannel(kCrank);
-  auto add = [&out](const std::string& name, double v, const std::string& unit) {
-    out.summary.push_back({name, v, unit});
-  };
-  add("num_samples", static_cast<double>(ts.num_samples()), "1");
-
-  if (has_acc) {
-    // Peaks and per-revolution statistics; a record too short for a revolution gives NaNs.
-    try {
-      const SignalSummary s = CalcSignalSummary(ts, kAcc, kCrank, index_angle, ts.all());
-      add("peak_positive", s.peak_positive, "m/s^2");
-      add("peak_negative", s.peak_negative, "m/s^2");
-      add("rms", s.rms, "m/s^2");
-      add("revolutions", static_cast<double>(s.positive.num_revolutions), "1");
-      add("positive_median", s.positive.median, "m/s^2");
-      add("positive_p95", s.positive.p95, "m/s^2");
-      add("positive_max", s.positive.max, "m/s^2");
-      add("negative_median", s.negative.median, "m/s^2");
-      add("negative_p95", s.negative.p95, "m/s^2");
-      add("negative_max", s.negative.max, "m/s^2");
-      LoadAmplification amp{kNaN, kNaN, kNaN, kNaN};
-      double ideal_pos = kNaN, ideal_neg = kNaN;
-      if (run.ideal && run.ideal->num_samples() == ts.num_samples() &&
-          run.ideal->HasChannel(kAcc)) {
-        const SignalSummary i =
-            CalcSignalSummary(*run.ideal, kAcc, kCrank, index_angle, run.ideal->all());
-        amp = CalcLoadAmplification(s, i);
-        ideal_pos = i.peak_positive;
-        ideal_neg = i.peak_negative;
-      }
-      add("ideal_peak_positive", ideal_pos, "m/s^2");
-      add("ideal_peak_negative", ideal_neg, "m/s^2");
-      add("amplification_positive", amp.positive, "1");
-      add("amplification_negative", amp.negative, "1");
-      add("amplification_positive_p95", amp.positive_p95, "1");
-      add("amplification_negative_p95", amp.negative_p95, "1");
-      const auto& la = run.summary.contains("load_amplification")
-                           ? run.summary["load_amplification"]
-                           : nlohmann::json();
-      auto ratio = [&la](const char* key) {
-        return la.is_object() && la.contains(key) && la[key].is_number() ? la[key].get<double>()
-                                                                         : kNaN;
-      };
-      add("amplification_bearing_force", ratio("bearing_force"), "1");
-      add("amplification_bearing_force_p95", ratio("bearing_force_p95"), "1");
-    } catch (const InputError&) {
-    }
-    try {
-      const InflectionPoints p =
-          FindInflectionPoints(ts, kAcc, kCrank, ts.all(), store.inflection_floor);
-      out.positive = ToStored(p.positive);
-      out.negative = ToStored(p.negative);
-    } catch (const InputError&) {
-    }
-    add("num_inflection_positive", static_cast<double>(out.positive.time.size()), "1");
-    add("num_inflection_negative", static_cast<double>(out.negative.time.size()), "1");
-    add("inflection_floor", store.inflection_floor, "m/s^2");
-    try {
-      std::vector<std::string> names;
-      for (const std::string& c : store.poincare_channels) {
-        if (ts.HasChannel(c)) names.push_back(c);
-      }
-      const PoincareMap map = CalcPoincareMap(ts, kCrank, index_angle, names, ts.all());
-      out.poincare.push_back({"time", "s", map.time});
-      for (std::size_t c = 0; c < names.size(); ++c) {
-        const Vec col = map.points.col(static_cast<Eigen::Index>(c));
-        out.poincare.push_back({names[c], map.units[c], ToStd(col)});
-        PoincareJitter j{kNaN, kNaN, 0};
-        if (map.num_points() >= 4)
-          j = CalcPoincareJitter(std::span<const double>(col.data(), col.size()));
-        out.poincare_jitter.push_back({"jitter_" + names[c], j.total, map.units[c]});
-        out.poincare_jitter.push_back(
-            {"jitter_normalised_" + names[c], j.normalised, map.units[c]});
-      }
-    } catch (const InputError&) {
-      out.poincare.clear();
-      out.poincare_jitter.clear();
-    }
-    try {
-      const Spectrum sp = CalcAmplitudeSpectrum(ts, kAcc, ts.all(), store.spectrum_window);
-      out.spectrum_channel = kAcc;
-      out.spectrum_window = ToString(sp.window);
-      out.spectrum_resolution = sp.resolution;
-      out.spectrum_num_samples = static_cast<double>(sp.num_samples);
-      out.amplitude_unit = ts.channel(kAcc).unit;
-      for (std::size_t k = 0; k < sp.num_bins() && sp.frequency[k] <= store.spectrum_max; ++k) {
-        out.frequency.push_back(sp.frequency[k]);
-        out.amplitude.push_back(sp.amplitude[k]);
-      }
-    } catch (const InputError&) {
-    } catch (const NumericalError&) {
-    }
-  }
-  // Stored channels, decimated (plain subsampling: the analysis above used every sample).
-  if (ts.num_samples() > 0) {
-    const std::size_t decimation =
-        store.rate < rate ? static_cast<std::size_t>(std::lround(rate / store.rate)) : 1;
-    out.decimation = static_cast<double>(decimation);
-    out.channel_rate = rate / static_cast<double>(decimation);
-    out.channel_start = ts.start_time();
-    for (const std::string& name : store.channels) {
-      if (!ts.HasChannel(name)) continue;
-      const Channel& c = ts.channel(name);
-      StoredSeries s{c.name, c.unit, {}};
-      s.values.reserve(c.values.size() / decimation + 1);
-      for (std::size_t i = 0; i < c.values.size(); i += decimation) s.values.push_back(c.values[i]);
-      out.channels.push_back(std::move(s));
-    }
-  }
-  return out;
 }
 
 // ---- HDF5 layout ----------------------------------------------------------------------------
