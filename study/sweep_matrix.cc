@@ -320,15 +320,10 @@ Config SweepMatrix::ConfigFor(int id) const {
   return cfg;
 }
 
-SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& origin,
-                             const std::string& base_dir,
-                             const std::vector<std::string>& extra_sets) {
-  const toml::table doc = ParseToml(toml_text, origin, "(matrix file)");
-  SweepMatrix m;
-  m.origin = origin;
-  m.source = toml_text;
-  m.name = fs::path(origin).stem().string();
-  m.base = "flexible-rig";
+namespace {
+
+/// Every top-level key is one of the matrix's sections, of the right kind.
+void CheckSections(const toml::table& doc) {
   for (const auto& [k, node] : doc) {
     const std::string section(k.str());
     const bool known = section == "sweep" || section == "set" || section == "axes" ||
@@ -345,6 +340,10 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
                                 : "must be a table: [" + section + "]");
     }
   }
+}
+
+/// [sweep]: name (a plain file name), base, description.
+void ReadSweepSection(const toml::table& doc, SweepMatrix* m) {
   if (const toml::table* sweep = doc["sweep"].as_table()) {
     for (const auto& [k, node] : *sweep) {
       const std::string key(k.str());
@@ -361,66 +360,77 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
                            "must be a plain file name: 1 to 200 characters, no '/', '\\', control "
                            "characters, '.' or '..'");
         }
-        m.name = v;
+        m->name = v;
       } else if (key == "base") {
-        m.base = v;
+        m->base = v;
       } else if (key == "description") {
-        m.description = v;
+        m->description = v;
       } else {
         throw InputError("sweep." + key, v, "unknown key; [sweep] takes name, base, description");
       }
     }
   }
+}
+
+/// The base run input (a run preset, or a TOML file relative to `base_dir`), checked.
+void LoadBase(const std::string& base_dir, SweepMatrix* m) {
   // The base input: a run's input, not a matrix.
-  if (FindPreset(m.base) && !FindRunPreset(m.base)) {
-    throw InputError("sweep.base", m.base,
+  if (FindPreset(m->base) && !FindRunPreset(m->base)) {
+    throw InputError("sweep.base", m->base,
                      "is a sweep matrix; the base is a run input: a preset (" + RunPresetNames() +
                          ") or a TOML file");
   }
-  if (const Preset* p = FindRunPreset(m.base)) {
-    m.base_toml = p->toml;
+  if (const Preset* p = FindRunPreset(m->base)) {
+    m->base_toml = p->toml;
   } else {
-    fs::path path(m.base);
+    fs::path path(m->base);
     if (path.is_relative()) path = fs::path(base_dir) / path;
     if (!fs::is_regular_file(path)) {
-      throw InputError("sweep.base", m.base,
+      throw InputError("sweep.base", m->base,
                        "is neither a preset (" + RunPresetNames() + ") nor a readable TOML file");
     }
-    m.base_toml = ReadText(path.string());
+    m->base_toml = ReadText(path.string());
   }
   try {
     Config check;
-    check.LoadToml(m.base_toml, m.base);
+    check.LoadToml(m->base_toml, m->base);
   } catch (const InputError& e) {
-    throw InputError("sweep.base", m.base, "is not a valid run input: " + std::string(e.what()));
+    throw InputError("sweep.base", m->base, "is not a valid run input: " + std::string(e.what()));
   }
-  // Overrides: [set] in document order, then the command line.
+}
+
+/// The overrides: [set] in document order, then the command line's --set (store.* keys set
+/// the store options); [store].
+void ReadOverrides(const toml::table& doc, const std::vector<std::string>& extra_sets,
+                   SweepMatrix* m) {
   if (const toml::table* set = doc["set"].as_table()) {
     std::vector<std::pair<std::size_t, Assignment>> flat;
     FlattenSet(*set, "", &flat);
     std::stable_sort(flat.begin(), flat.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (auto& f : flat) m.overrides.push_back(f.second);
+    for (auto& f : flat) m->overrides.push_back(f.second);
   }
   if (const toml::table* store = doc["store"].as_table()) {
     for (const auto& [k, node] : *store) {
-      SetStoreOption(&m.store, std::string(k.str()),
+      SetStoreOption(&m->store, std::string(k.str()),
                      ValueText(node, "store." + std::string(k.str())));
     }
   }
   for (const std::string& s : extra_sets) {
     const Assignment a = ParseAssignment(s);
     if (a.key.rfind("store.", 0) == 0) {
-      SetStoreOption(&m.store, a.key.substr(6), a.value);
+      SetStoreOption(&m->store, a.key.substr(6), a.value);
       continue;
     }
     CheckValue(a.key, a.value, "--set");
-    m.overrides.push_back(a);
+    m->overrides.push_back(a);
   }
-  // Axes and combinations.
-  std::vector<Axis> global;
-  if (const toml::table* axes = doc["axes"].as_table()) global = AxesOf(*axes, "[axes]");
-  std::vector<std::vector<Axis>> blocks;
+}
+
+/// [axes] and each [[combinations]] entry (a key in both is refused); the axis keys in order.
+void ReadAxes(const toml::table& doc, std::vector<Axis>* global,
+              std::vector<std::vector<Axis>>* blocks, SweepMatrix* m) {
+  if (const toml::table* axes = doc["axes"].as_table()) *global = AxesOf(*axes, "[axes]");
   if (const toml::array* combos = doc["combinations"].as_array()) {
     for (std::size_t i = 0; i < combos->size(); ++i) {
       const std::string where = "[[combinations]] #" + std::to_string(i + 1);
@@ -428,48 +438,53 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
       if (block.empty()) throw InputError(where, "{}", "a combination needs at least one key");
       for (const Axis& a : block) {
         for (const std::string& k : a.keys) {
-          for (const Axis& g : global) {
+          for (const Axis& g : *global) {
             if (std::find(g.keys.begin(), g.keys.end(), k) != g.keys.end()) {
               throw InputError(k, "(twice)", "is set by both [axes] and " + where);
             }
           }
         }
       }
-      blocks.push_back(std::move(block));
+      blocks->push_back(std::move(block));
     }
   }
-  if (blocks.empty()) blocks.emplace_back();
-  auto note_keys = [&m](const std::vector<Axis>& axes) {
+  if (blocks->empty()) blocks->emplace_back();
+  auto note_keys = [m](const std::vector<Axis>& axes) {
     for (const Axis& a : axes) {
       for (const std::string& k : a.keys) {
-        if (std::find(m.axis_keys.begin(), m.axis_keys.end(), k) == m.axis_keys.end())
-          m.axis_keys.push_back(k);
+        if (std::find(m->axis_keys.begin(), m->axis_keys.end(), k) == m->axis_keys.end())
+          m->axis_keys.push_back(k);
       }
     }
   };
-  note_keys(global);
-  for (const auto& block : blocks) note_keys(block);
-  // Expansion: combinations in file order (outermost), then [axes], then the combination's own
-  // keys, each in document order; the last axis varies fastest.
+  note_keys(*global);
+  for (const auto& block : *blocks) note_keys(block);
+}
+
+/// Expansion: combinations in file order (outermost), then [axes], then the combination's own
+/// keys, each in document order; the last axis varies fastest.
+void Expand(const std::vector<Axis>& global, const std::vector<std::vector<Axis>>& blocks,
+            SweepMatrix* m) {
   for (const auto& block : blocks) {
     std::vector<const Axis*> axes;
     for (const Axis& a : global) axes.push_back(&a);
     for (const Axis& a : block) axes.push_back(&a);
     double total = 1.0;
     for (const Axis* a : axes) total *= static_cast<double>(a->points.size());
-    if (total + static_cast<double>(m.runs.size()) > static_cast<double>(kMaxRuns)) {
-      throw InputError(m.origin, FormatValue(total) + " runs", "more than 10^6 runs in one matrix");
+    if (total + static_cast<double>(m->runs.size()) > static_cast<double>(kMaxRuns)) {
+      throw InputError(m->origin, FormatValue(total) + " runs",
+                       "more than 10^6 runs in one matrix");
     }
     std::vector<std::size_t> index(axes.size(), 0);
     for (;;) {
       SweepRun run;
-      run.id = static_cast<int>(m.runs.size());
+      run.id = static_cast<int>(m->runs.size());
       for (std::size_t a = 0; a < axes.size(); ++a) {
         for (std::size_t i = 0; i < axes[a]->keys.size(); ++i) {
           run.values.push_back({axes[a]->keys[i], axes[a]->points[index[a]][i]});
         }
       }
-      m.runs.push_back(std::move(run));
+      m->runs.push_back(std::move(run));
       bool carry = true;  // odometer: the last axis turns fastest
       for (std::size_t a = axes.size(); carry && a > 0; --a) {
         if (++index[a - 1] < axes[a - 1]->points.size()) {
@@ -481,7 +496,10 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
       if (carry) break;
     }
   }
-  // Every run must resolve, and no two runs may be the same run.
+}
+
+/// Every run must resolve, and no two runs may be the same run.
+void CheckDistinctRuns(const SweepMatrix& m) {
   std::map<std::string, int> seen;
   for (const SweepRun& run : m.runs) {
     const std::string fp = RunFingerprint(m.ConfigFor(run.id), m.store);
@@ -493,6 +511,28 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
                            run.Label() + ")");
     }
   }
+}
+
+}  // namespace
+
+SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& origin,
+                             const std::string& base_dir,
+                             const std::vector<std::string>& extra_sets) {
+  const toml::table doc = ParseToml(toml_text, origin, "(matrix file)");
+  SweepMatrix m;
+  m.origin = origin;
+  m.source = toml_text;
+  m.name = fs::path(origin).stem().string();
+  m.base = "flexible-rig";
+  CheckSections(doc);
+  ReadSweepSection(doc, &m);
+  LoadBase(base_dir, &m);
+  ReadOverrides(doc, extra_sets, &m);
+  std::vector<Axis> global;
+  std::vector<std::vector<Axis>> blocks;
+  ReadAxes(doc, &global, &blocks, &m);
+  Expand(global, blocks, &m);
+  CheckDistinctRuns(m);
   ValidateStoreRates(m);
   return m;
 }
@@ -515,99 +555,6 @@ SweepMatrix LoadSweepMatrix(const std::string& name_or_path,
   const std::string dir = fs::path(name_or_path).parent_path().string();
   return ParseSweepMatrix(ReadText(name_or_path), name_or_path, dir.empty() ? "." : dir,
                           extra_sets);
-}
-
-// ---- JSON --------------------------------------------------------------------------------------
-
-nlohmann::json SweepMatrixToJson(const SweepMatrix& m) {
-  nlohmann::json j;
-  j["name"] = m.name;
-  j["description"] = m.description;
-  j["origin"] = m.origin;
-  j["source"] = m.source;
-  j["base"] = m.base;
-  j["base_toml"] = m.base_toml;
-  for (const Assignment& a : m.overrides) j["overrides"].push_back({a.key, a.value});
-  j["axis_keys"] = m.axis_keys;
-  j["runs"] = nlohmann::json::array();
-  for (const SweepRun& r : m.runs) {
-    nlohmann::json values = nlohmann::json::array();
-    for (const Assignment& a : r.values) values.push_back({a.key, a.value});
-    j["runs"].push_back(values);
-  }
-  const StoreOptions& s = m.store;
-  j["store"] = {{"channels", s.channels},
-                {"rate", s.rate},
-                {"spectrum_window", ToString(s.spectrum_window)},
-                {"spectrum_max", s.spectrum_max},
-                {"inflection_floor", s.inflection_floor},
-                {"poincare_channels", s.poincare_channels}};
-  return j;
-}
-
-SweepMatrix SweepMatrixFromJson(const nlohmann::json& j) {
-  SweepMatrix m;
-  m.name = j.at("name");
-  m.description = j.at("description");
-  m.origin = j.at("origin");
-  m.source = j.at("source");
-  m.base = j.at("base");
-  m.base_toml = j.at("base_toml");
-  if (j.contains("overrides")) {
-    for (const auto& a : j["overrides"]) m.overrides.push_back({a[0], a[1]});
-  }
-  m.axis_keys = j.at("axis_keys").get<std::vector<std::string>>();
-  for (const auto& r : j.at("runs")) {
-    SweepRun run;
-    run.id = static_cast<int>(m.runs.size());
-    for (const auto& a : r) run.values.push_back({a[0], a[1]});
-    m.runs.push_back(std::move(run));
-  }
-  const auto& s = j.at("store");
-  m.store.channels = s.at("channels").get<std::vector<std::string>>();
-  m.store.rate = s.at("rate");
-  m.store.spectrum_window = WindowFromString("store.spectrum_window", s.at("spectrum_window"));
-  m.store.spectrum_max = s.at("spectrum_max");
-  m.store.inflection_floor = s.at("inflection_floor");
-  m.store.poincare_channels = s.at("poincare_channels").get<std::vector<std::string>>();
-  return m;
-}
-
-// ---- identities --------------------------------------------------------------------------------
-
-std::string Fnv1aHex(const std::string& bytes) {
-  // FNV-1a, 64 bit (Fowler, Noll, Vo; offset basis and prime from the FNV reference).
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
-}
-
-std::string RunFingerprint(const Config& cfg, const StoreOptions& store) {
-  std::string text = "flexrod sweep run v1\n";
-  for (const Config::Resolved& r : cfg.Resolve()) {
-    if (r.key.rfind("vtk.", 0) == 0)
-      continue;  // ParaView output of single runs: no effect on results
-    text += r.key + "=" + r.value + " " + r.unit + (r.is_default ? "" : " set") +
-            "\n";  // set vs default can differ
-  }
-  text += store.Describe();
-  return Fnv1aHex(text);
-}
-
-std::string RodKey(const Config& cfg) {
-  std::string key;
-  for (const Config::Resolved& r : cfg.Resolve()) {
-    if (r.key.rfind("rod.", 0) == 0 || r.key.rfind("reduction.", 0) == 0 ||
-        r.key.rfind("clamp.", 0) == 0) {
-      key += r.key + "=" + r.value + ";";
-    }
-  }
-  return key;
 }
 
 }  // namespace flexrod::study
