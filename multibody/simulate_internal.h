@@ -1,6 +1,5 @@
-// multibody/simulate_internal.h — what multibody/simulate.cc (initial conditions, the DAE
-// adapter) shares with the run loop in multibody/simulation_loop.cc. Not for use outside
-// multibody/.
+// multibody/simulate_internal.h — Internal to multibody/: what multibody/simulate.cc (initial
+// conditions, the DAE adapter) shares with the run loop in multibody/simulation_loop.cc.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 

@@ -13,9 +13,13 @@ Data flows upwards; a folder may include only itself and the layers below it:
   app                       everything above but python/, tests/, benchmarks/
   python                    common, fem, contact, multibody, study (never app/)
 
+A header that says "Internal to <folder>/" or "Not for use outside <folder>/" in its first
+lines may be included only from that folder.
+
 Usage: check_layers.py [ROOT]       exit 1 listing every include against the direction
        check_layers.py --selftest   proves on a scratch tree that a forbidden include fails
-Run by ctest (layers.includes, layers.selftest), so by .ci/run. Standard library only.
+Run by the build (target layers, before any library compiles) and by ctest (layers.includes,
+layers.selftest). Standard library only.
 """
 import pathlib
 import re
@@ -34,11 +38,24 @@ ALLOWED = {
 }
 SIGNALS = re.compile(r"^study/(signals[a-z_]*|timeseries)\.(h|cc)$")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+INTERNAL = re.compile(r"(?:Internal to|Not for use outside) ([a-z_]+)/")
+
+
+def internal_headers(root):
+    """{header path: the folder it is internal to}, from the marker in its first 5 lines."""
+    out = {}
+    for path in root.glob("*/*.h"):
+        head = "\n".join(path.read_text(encoding="utf-8", errors="replace").splitlines()[:5])
+        m = INTERNAL.search(head)
+        if m:
+            out[path.relative_to(root).as_posix()] = m.group(1)
+    return out
 
 
 def violations(root):
     root = pathlib.Path(root)
     found = []
+    internal = internal_headers(root)
     for folder, allowed in ALLOWED.items():
         for path in sorted((root / folder).rglob("*")):
             if path.suffix not in (".h", ".cc"):
@@ -49,6 +66,10 @@ def violations(root):
                 top = target.split("/")[0]
                 if "/" not in target:
                     continue  # a header beside it (python/ bindings) or a system-style name
+                if target in internal and internal[target] != folder:
+                    found.append("%s includes %s: that header is internal to %s/" % (
+                        rel, target, internal[target]))
+                    continue
                 if signals:
                     ok = top == "common" or SIGNALS.match(target) is not None
                 else:
@@ -72,6 +93,9 @@ def selftest():
             "study/signals.cc": '#include "study/timeseries.h"\n#include "multibody/simulate.h"\n',
             "study/run.cc": '#include "multibody/simulate.h"\n#include "app/commands.h"\n',
             "python/module.cc": '#include "study/run.h"\n#include "app/cli.h"\n',
+            "multibody/kernels.h": "// multibody/kernels.h — Internal to multibody/.\n",
+            "multibody/dae.cc": '#include "multibody/kernels.h"\n',
+            "study/run_setup.cc": '#include "multibody/dae.h"\n#include "multibody/kernels.h"\n',
         }
         for name, text in files.items():
             (root / name).parent.mkdir(parents=True, exist_ok=True)
@@ -80,7 +104,8 @@ def selftest():
         expected = ["fem/beam.cc includes multibody/dae.h",
                     "study/signals.cc includes multibody/simulate.h",
                     "study/run.cc includes app/commands.h",
-                    "python/module.cc includes app/cli.h"]
+                    "python/module.cc includes app/cli.h",
+                    "study/run_setup.cc includes multibody/kernels.h"]
         for e in expected:
             if not any(v.startswith(e) for v in bad):
                 print("selftest: not caught: " + e)
