@@ -20,9 +20,8 @@ namespace {
 /// X = A⁻¹ B for a symmetric positive definite banded A, by a band Cholesky factorisation in
 /// long double (x87 extended precision, ε ≈ 1.1e-19). Returns false if A's half-bandwidth
 /// exceeds `max_band` (the caller then uses the sparse solver). A beam's interior stiffness has
-/// cond ~ (number of elements)⁴ (≈1e16 at 10 000 elements): the constraint modes Ψ solved in
-/// double lost enough digits to put the reduced fundamental frequency 3e-3 off (1.6e-5 at
-/// 1 000 elements, where the modal truncation dominates).
+/// cond ~ (number of elements)⁴ (≈1e16 at 10 000 elements): solved in double, the constraint
+/// modes Ψ lose enough digits to put the reduced fundamental frequency 3e-3 off there.
 constexpr int kExtendedBandLimit = 64;  // node-wise dof numbering: 2 × 6 dofs per node at most
 
 bool SolveBandedExtended(const SpMat& A, const Mat& B, Mat* X, int max_band) {
@@ -172,7 +171,7 @@ void CraigBamptonBasis(const RodSpec& rod, const ReductionSpec& spec, const Asse
   // K_r = diag(K_bb + K_bi Ψ, Λ); the coupling Φ_mᵀ(K_ii Ψ + K_ib) is zero and Φ_m is
   // M-orthonormal. The projection Φᵀ K Φ forms the same matrix from products of K's
   // largest entries (12EI/h³ ≈ 6e12 N/m at 10 000 elements) with smooth shapes, and its
-  // cancellation alone put the reduced fundamental frequency 1e-2 below the full model's
+  // cancellation alone puts the reduced fundamental frequency 1e-2 below the full model's
   // there; the Schur complement cancels once, against the boundary entries only.
   Mat Kcb = Mat::Zero(nb + k, nb + k);
   if (nb > 0) {

@@ -522,9 +522,8 @@ void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, cons
   FLEXROD_ASSERT(poly_order_ >= 0);
   const size_t n = static_cast<size_t>(impl_->n);
   const double s = t - poly_tn_;
-  // Four components at a time: one at a time, each multiply-add waits on the last (the rigid
-  // rig's ideal-joint twin alone, order-5 steps: 0.112 -> 0.104 s). The same arithmetic per
-  // component either way.
+  // Four components at a time: one at a time, each multiply-add waits on the last. The same
+  // arithmetic per component either way.
   size_t i = 0;
   for (; i + 4 <= n; i += 4) HornerGroup<4>(poly_.data(), n, poly_order_, s, i, into, y, yp);
   for (; i < n; ++i) HornerGroup<1>(poly_.data(), n, poly_order_, s, i, into, y, yp);

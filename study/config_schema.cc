@@ -375,9 +375,9 @@ const std::vector<ParamDef>& Schema() {
       {"sim.rel_tol", K::kQuantity, D::kDimensionless, "1e-6",
        "integrator relative tolerance (of the frame coordinates that move a clearance joint: "
        "relative to the clearance)"},
-      // 1e-10, not 1e-8: a flexible rod's elastic coordinates are 1e-8..1e-5 (the axial ones
-      // carry the slider's load), so 1e-8 left them uncontrolled; the exudyn-match ideal joint's
-      // peak slider acceleration was 17.6 % high (tests/study/default_accuracy_slowtest.cc).
+      // 1e-10: a flexible rod's elastic coordinates are 1e-8..1e-5 (the axial ones carry the
+      // slider's load), which a coarser absolute tolerance leaves uncontrolled
+      // (tests/study/default_accuracy_slowtest.cc checks the defaults against 1e-12).
       {"sim.abs_tol", K::kQuantity, D::kDimensionless, "1e-10",
        "integrator absolute tolerance (coordinates [m, rad, 1]; velocities: times 1e4 1/s when "
        "a joint or force element moves with elastic coordinates)"},

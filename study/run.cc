@@ -395,7 +395,7 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
                                                multibody::CalcClearanceResponse(s, mm.clearance)));
     };
     // Inside an impact, the peak force and penetration are located within each step (its
-    // interpolating polynomial), not taken at the solution points: those were up to 5e-4 low.
+    // interpolating polynomial), not taken at the solution points, which can be 5e-4 low.
     cb.on_step_interval = [&](const multibody::StepInterpolant& step) {
       if (rec.size() == 0 ||
           (static_cast<long>(rec.size()) >= max_samples && step.t_begin() >= t_last_sample))
