@@ -331,8 +331,8 @@ double Compliance(Resolver& r, const Context& c) {
   return r.Get("compliance", "1/Pa", [&] { return c.pi_compliance; });
 }
 
-NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
-  const ContactGeometry& g = c.geometry;
+/// The linear laws: a spring, alone or with a dashpot in parallel, in series, or both.
+NormalLaw BuildLinearLaw(std::string_view name, Resolver& r, const Context& c) {
   if (name == "linear-spring") {
     return LinearSpringLaw{LinearStiffness(r, c)};
   }
@@ -376,6 +376,11 @@ NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
     return StandardLinearSolidLaw{
         k1, k2, r.Get("damping", "N*s/m", [&] { return SlsDamping(k1, k2, m, e); })};
   }
+  throw std::logic_error("normal law table and builder disagree on " + std::string(name));
+}
+
+/// Hertz's K δⁿ, alone, with a hysteresis damping form, or elasto-plastic.
+NormalLaw BuildHertzLaw(std::string_view name, Resolver& r, const Context& c) {
   if (name == "hertz") {
     auto [k, n] = HertzStiffnessExponent(r, c);
     return HertzLaw{k, n};
@@ -396,23 +401,35 @@ NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
     auto [k, n] = HertzStiffnessExponent(r, c);
     return GonthierLaw{Hysteresis(r, c, k, n, GonthierFactor)};
   }
-  if (name == "impact") {
-    // Named, not a structured binding: clang 14 (the fuzz build) refuses to capture one.
-    const std::pair<double, double> kn = HertzStiffnessExponent(r, c);
-    const double k = kn.first, n = kn.second;
-    const double dmax = r.Get(
-        "damping-penetration", "m", [] { return kDefaultImpactDampingPenetration; }, "default");
-    const double e = Restitution(r, c);
-    if (r.Has("max-damping")) {
-      return ImpactFunctionLaw{k, n, r.Get("max-damping", "N*s/m", [] { return 0.0; }), dmax};
-    }
-    const double m = EffectiveMass(r, "impact", "to calibrate max-damping to the restitution", e);
-    const double v = r.Get(
-        "calibration-velocity", "m/s", [] { return kDefaultCalibrationVelocity; }, "default");
-    const double cmax =
-        r.Get("max-damping", "N*s/m", [&] { return ImpactDamping(k, n, dmax, m, v, e); });
-    return ImpactFunctionLaw{k, n, cmax, dmax};
+  if (name == "elasto-plastic") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return ElastoPlasticLaw{k, n, Restitution(r, c)};
   }
+  throw std::logic_error("normal law table and builder disagree on " + std::string(name));
+}
+
+/// ADAMS IMPACT, its maximum damping calibrated to the restitution.
+NormalLaw BuildImpactLaw(Resolver& r, const Context& c) {
+  // Named, not a structured binding: clang 14 (the fuzz build) refuses to capture one.
+  const std::pair<double, double> kn = HertzStiffnessExponent(r, c);
+  const double k = kn.first, n = kn.second;
+  const double dmax = r.Get(
+      "damping-penetration", "m", [] { return kDefaultImpactDampingPenetration; }, "default");
+  const double e = Restitution(r, c);
+  if (r.Has("max-damping")) {
+    return ImpactFunctionLaw{k, n, r.Get("max-damping", "N*s/m", [] { return 0.0; }), dmax};
+  }
+  const double m = EffectiveMass(r, "impact", "to calibrate max-damping to the restitution", e);
+  const double v = r.Get(
+      "calibration-velocity", "m/s", [] { return kDefaultCalibrationVelocity; }, "default");
+  const double cmax =
+      r.Get("max-damping", "N*s/m", [&] { return ImpactDamping(k, n, dmax, m, v, e); });
+  return ImpactFunctionLaw{k, n, cmax, dmax};
+}
+
+/// The line-contact laws of a pin in a bush: log curves from the compliance.
+NormalLaw BuildLineLaw(std::string_view name, Resolver& r, const Context& c) {
+  const ContactGeometry& g = c.geometry;
   if (name == "esdu-78035") {
     const double h = Compliance(r, c);
     const LogLineCurve curve = EsduCurve(h, g.length, g.clearance());
@@ -432,64 +449,79 @@ NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
     r.Record("branch-limit-penetration", CurveLimitPenetration(curve), "m", "derived");
     return DubowskyFreudensteinLaw{h, g.length, g.clearance(), g.bush_radius, g.pin_radius, curve};
   }
-  if (name == "pereira") {
-    // Pereira, Ramalho, Ambrósio 2011, internal contact; fit units mm, N, N/mm².
-    const double clearance_mm = g.clearance() * 1e3;
-    const double length_mm = g.length * 1e3;
-    const double modulus_nmm2 = c.effective_modulus * 1e-6;
-    r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
-    r.Record("clearance", g.clearance(), "m", "derived");
-    const double n = r.Get("exponent", "1", [&] {
-      double y;
-      if (clearance_mm >= 0.005 && clearance_mm <= 0.34954) {
-        y = 1.51 * std::pow(std::log(1000.0 * clearance_mm), -0.151);
-      } else if (clearance_mm > 0.34954 && clearance_mm <= 10.0) {
-        y = 0.0151 * clearance_mm + 1.151;
-      } else {
-        throw InputError("contact.clearance", FormatValue(clearance_mm) + " mm",
-                         "the Pereira et al. (2011) exponent fit holds for 0.005 mm <= clearance "
-                         "<= 10 mm; give the exponent explicitly");
-      }
-      return y * std::pow(clearance_mm, -0.005);
-    });
-    const double k = r.Get("stiffness", StiffnessUnit(n), [&] {
-      const double k_mm = (0.965 * clearance_mm + 0.0965) * length_mm * modulus_nmm2 / clearance_mm;
-      return k_mm * std::pow(1000.0, n);  // N/mm^n → N/m^n
-    });
-    return PereiraLaw{Hysteresis(r, c, k, n, LnFactor), g.clearance()};
-  }
-  if (name == "elasto-plastic") {
-    auto [k, n] = HertzStiffnessExponent(r, c);
-    return ElastoPlasticLaw{k, n, Restitution(r, c)};
-  }
-  if (name == "hybrid") {
-    r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
-    r.Record("internal-radius", c.internal_radius, "m", "derived");
-    r.Record("lankarani-nikravesh-stiffness", c.hertz_stiffness, "N/m^1.5", "derived");
-    const double n = r.Get(
-        "exponent", "1", [] { return 1.5; }, "default");
-    const double w = r.Get(
-        "working-penetration", "m", [] { return kDefaultWorkingPenetration; }, "default");
-    const LogLineCurve esdu = EsduCurve(c.pi_compliance, g.length, g.clearance());
-    if (!(w < CurveLimitPenetration(esdu))) {
-      throw InputError("working-penetration", FormatValue(w) + " m",
-                       "must be below the ESDU-78035 branch limit 4*clearance = " +
-                           FormatValue(CurveLimitPenetration(esdu)) + " m");
-    }
-    const PowerFit fit = FitPowerLaw(
-        [&](double d) {
-          double f, s;
-          SolveCurve(esdu, d, &f, &s);
-          return d > 0.0 ? f : 0.0;
-        },
-        n, w);
-    r.Record("esdu-fit-r-squared", fit.r_squared, "1", "derived");
-    const double k = r.Get("stiffness", StiffnessUnit(n), [&] { return fit.stiffness; });
-    r.Record("damping-scale-k_es/k_ln", k / c.hertz_stiffness,
-             n == 1.5 ? std::string("1") : "m^" + FormatValue(1.5 - n), "derived");
-    return HybridLaw{Hysteresis(r, c, k, n, LnFactor), w, fit.r_squared, c.hertz_stiffness};
-  }
   throw std::logic_error("normal law table and builder disagree on " + std::string(name));
+}
+
+/// Pereira, Ramalho, Ambrósio 2011, internal contact; fit units mm, N, N/mm².
+NormalLaw BuildPereiraLaw(Resolver& r, const Context& c) {
+  const ContactGeometry& g = c.geometry;
+  // Pereira, Ramalho, Ambrósio 2011, internal contact; fit units mm, N, N/mm².
+  const double clearance_mm = g.clearance() * 1e3;
+  const double length_mm = g.length * 1e3;
+  const double modulus_nmm2 = c.effective_modulus * 1e-6;
+  r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
+  r.Record("clearance", g.clearance(), "m", "derived");
+  const double n = r.Get("exponent", "1", [&] {
+    double y;
+    if (clearance_mm >= 0.005 && clearance_mm <= 0.34954) {
+      y = 1.51 * std::pow(std::log(1000.0 * clearance_mm), -0.151);
+    } else if (clearance_mm > 0.34954 && clearance_mm <= 10.0) {
+      y = 0.0151 * clearance_mm + 1.151;
+    } else {
+      throw InputError("contact.clearance", FormatValue(clearance_mm) + " mm",
+                       "the Pereira et al. (2011) exponent fit holds for 0.005 mm <= clearance "
+                       "<= 10 mm; give the exponent explicitly");
+    }
+    return y * std::pow(clearance_mm, -0.005);
+  });
+  const double k = r.Get("stiffness", StiffnessUnit(n), [&] {
+    const double k_mm = (0.965 * clearance_mm + 0.0965) * length_mm * modulus_nmm2 / clearance_mm;
+    return k_mm * std::pow(1000.0, n);  // N/mm^n → N/m^n
+  });
+  return PereiraLaw{Hysteresis(r, c, k, n, LnFactor), g.clearance()};
+}
+
+/// The thesis's hybrid law: the ESDU-78035 curve fitted by K δⁿ over the working
+/// penetration, with Lankarani–Nikravesh damping.
+NormalLaw BuildHybridLaw(Resolver& r, const Context& c) {
+  const ContactGeometry& g = c.geometry;
+  r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
+  r.Record("internal-radius", c.internal_radius, "m", "derived");
+  r.Record("lankarani-nikravesh-stiffness", c.hertz_stiffness, "N/m^1.5", "derived");
+  const double n = r.Get(
+      "exponent", "1", [] { return 1.5; }, "default");
+  const double w = r.Get(
+      "working-penetration", "m", [] { return kDefaultWorkingPenetration; }, "default");
+  const LogLineCurve esdu = EsduCurve(c.pi_compliance, g.length, g.clearance());
+  if (!(w < CurveLimitPenetration(esdu))) {
+    throw InputError("working-penetration", FormatValue(w) + " m",
+                     "must be below the ESDU-78035 branch limit 4*clearance = " +
+                         FormatValue(CurveLimitPenetration(esdu)) + " m");
+  }
+  const PowerFit fit = FitPowerLaw(
+      [&](double d) {
+        double f, s;
+        SolveCurve(esdu, d, &f, &s);
+        return d > 0.0 ? f : 0.0;
+      },
+      n, w);
+  r.Record("esdu-fit-r-squared", fit.r_squared, "1", "derived");
+  const double k = r.Get("stiffness", StiffnessUnit(n), [&] { return fit.stiffness; });
+  r.Record("damping-scale-k_es/k_ln", k / c.hertz_stiffness,
+           n == 1.5 ? std::string("1") : "m^" + FormatValue(1.5 - n), "derived");
+  return HybridLaw{Hysteresis(r, c, k, n, LnFactor), w, fit.r_squared, c.hertz_stiffness};
+}
+
+NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
+  if (name == "linear-spring" || name == "kelvin-voigt" || name == "maxwell" ||
+      name == "standard-linear-solid")
+    return BuildLinearLaw(name, r, c);
+  if (name == "impact") return BuildImpactLaw(r, c);
+  if (name == "esdu-78035" || name == "johnson" || name == "dubowsky-freudenstein")
+    return BuildLineLaw(name, r, c);
+  if (name == "pereira") return BuildPereiraLaw(r, c);
+  if (name == "hybrid") return BuildHybridLaw(r, c);
+  return BuildHertzLaw(name, r, c);
 }
 
 }  // namespace
