@@ -95,9 +95,102 @@ void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId jo
 }
 
 // ---- public: residual ---------------------------------------------------------------------------
+namespace {
+
+/// Body bi's rows of F2: M v̇ − Q_v − Q_gravity + K q + D q̇ (elastic rows); its damping and
+/// stiffening powers added to *diss_damping and *stiffening_power.
+void AddBodyResidual(const Mechanism& model, RunData* data, size_t bi, const double* p,
+                     const double* v, const double* vd, double* r2, double* diss_damping,
+                     double* stiffening_power) {
+  const Vec2& gravity = model.gravity();
+  const bool has_gravity = gravity.squaredNorm() > 0.0;
+  const Body& b = model.bodies()[bi];
+  BodyScratch& s = data->bodies[bi];
+  const int o = b.coordinate_offset, nb = b.num_coordinates(), n = b.num_modes;
+  FillMassMatrix(b, s, p + o, &s.M);
+  FillQuadraticVelocity(b, s, v + o, &s.Qv);
+  VMap rb(r2 + o, nb);
+  rb.noalias() = s.M * CMap(vd + o, nb);
+  rb -= s.Qv;
+  if (has_gravity) {
+    rb.head<2>() -= b.mass * gravity;
+    rb(kTheta) -= (s.A * Jm(s.s)).dot(gravity);
+    if (n > 0) {
+      const Vec2 gl = s.A.transpose() * gravity;
+      rb.tail(n).noalias() -= b.Sbar.transpose() * gl;
+    }
+  }
+  if (n > 0) {
+    rb.tail(n) += s.Kq + s.Dqd;
+    CMap qd(v + o + kFirstMode, n);
+    *diss_damping += qd.dot(s.Dqd);
+    if (b.geometric_stiffening) *stiffening_power -= qd.dot(s.Fg);
+  }
+}
+
+/// The drivers' rows: a constraint driver's g and G v rows and multiplier terms, a motor's
+/// torque in Q; their power added to *driver_power.
+void AddDriverResidual(const Mechanism& model, RunData* data, double t, const double* y, double* r,
+                       double* driver_power) {
+  const int np = model.num_coordinates();
+  const double* p = y;
+  const double* v = y + np;
+  const double* lam = y + model.lambda_offset();
+  const double* mu = y + model.mu_offset();
+  double* r1 = r;
+  double* r2 = r + np;
+  double* r3 = r + model.lambda_offset();
+  double* r4 = r + model.mu_offset();
+  const auto& bodies = model.bodies();
+  for (const Driver& d : model.drivers()) {
+    const int ith = bodies[d.body].coordinate(kTheta);
+    const double thd = v[ith];
+    if (d.is_constraint()) {
+      r3[d.row] = p[ith] - d.PrescribedAngle(t);
+      r4[d.row] = thd - d.PrescribedSpeed(t);
+      r2[ith] += lam[d.row];
+      r1[ith] -= mu[d.row];
+      *driver_power -= lam[d.row] * thd;  // driver torque = −λ
+    } else {
+      const double torque = d.MotorTorque(thd);
+      data->Q(ith) += torque;
+      *driver_power += torque * thd;
+    }
+  }
+}
+
+/// Element ei's generalized forces in Q and its state rows; its dissipation added to
+/// *diss_elements. False if the element reports a problem.
+bool AddElementResidual(const Mechanism& model, RunData* data, size_t ei, double t, const double* z,
+                        const double* zd, double* r5, double* diss_elements) {
+  double* memory = data->element_memory.data();
+  const ElementSlot& e = model.elements()[ei];
+  ElementScratch& es = data->elements[ei];
+  es.out = ElementOutput{};
+  if (e.num_states > 0) {
+    es.zdot.setZero();
+    es.out.state_rates = es.zdot.data();
+  }
+  const MarkerKinematics& ki = data->markers[e.marker_i].kin;
+  const MarkerKinematics& kj = data->markers[e.marker_j].kin;
+  const ScopeTimer timer(data->time_elements ? &es.seconds : nullptr);
+  if (!e.element->Evaluate(t, ki, kj, z + e.state_offset, memory + e.memory_offset, &es.out)) {
+    return false;
+  }
+  AddMarkerForce(model, e.marker_i, *data, es.out.force_i, es.out.moment_i, data->Q.data());
+  AddMarkerForce(model, e.marker_j, *data, es.out.force_j, es.out.moment_j, data->Q.data());
+  for (int k = 0; k < e.num_states; ++k) {
+    r5[e.state_offset + k] = zd[e.state_offset + k] - es.zdot(k);
+  }
+  *diss_elements += es.out.dissipation;
+  return true;
+}
+
+}  // namespace
+
 int CalcResidual(const Mechanism& model, RunData* data, double t, const double* y, const double* yp,
                  double* r) {
-  const int np = model.num_coordinates(), nc = model.num_constraints();
+  const int np = model.num_coordinates();
   const int N = model.size();
   const double* p = y;
   const double* v = y + np;
@@ -112,7 +205,6 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
   double* r3 = r + model.lambda_offset();
   double* r4 = r + model.mu_offset();
   double* r5 = r + model.z_offset();
-  (void)nc;
 
   UpdateAll(model, data, p, v);
   for (int i = 0; i < np; ++i) r1[i] = pd[i] - v[i];
@@ -120,50 +212,9 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
   double diss_elements = 0.0, diss_damping = 0.0, driver_power = 0.0, stiffening_power = 0.0;
 
   // Bodies: M v̇ − Q_v − Q_e − Q_gravity.
-  const Vec2& gravity = model.gravity();
-  const bool has_gravity = gravity.squaredNorm() > 0.0;
-  const auto& bodies = model.bodies();
-  for (size_t bi = 0; bi < bodies.size(); ++bi) {
-    const Body& b = bodies[bi];
-    BodyScratch& s = data->bodies[bi];
-    const int o = b.coordinate_offset, nb = b.num_coordinates(), n = b.num_modes;
-    FillMassMatrix(b, s, p + o, &s.M);
-    FillQuadraticVelocity(b, s, v + o, &s.Qv);
-    VMap rb(r2 + o, nb);
-    rb.noalias() = s.M * CMap(vd + o, nb);
-    rb -= s.Qv;
-    if (has_gravity) {
-      rb.head<2>() -= b.mass * gravity;
-      rb(kTheta) -= (s.A * Jm(s.s)).dot(gravity);
-      if (n > 0) {
-        const Vec2 gl = s.A.transpose() * gravity;
-        rb.tail(n).noalias() -= b.Sbar.transpose() * gl;
-      }
-    }
-    if (n > 0) {
-      rb.tail(n) += s.Kq + s.Dqd;
-      CMap qd(v + o + kFirstMode, n);
-      diss_damping += qd.dot(s.Dqd);
-      if (b.geometric_stiffening) stiffening_power -= qd.dot(s.Fg);
-    }
-  }
-
-  // Drivers.
-  for (const Driver& d : model.drivers()) {
-    const int ith = bodies[d.body].coordinate(kTheta);
-    const double thd = v[ith];
-    if (d.is_constraint()) {
-      r3[d.row] = p[ith] - d.PrescribedAngle(t);
-      r4[d.row] = thd - d.PrescribedSpeed(t);
-      r2[ith] += lam[d.row];
-      r1[ith] -= mu[d.row];
-      driver_power -= lam[d.row] * thd;  // driver torque = −λ
-    } else {
-      const double torque = d.MotorTorque(thd);
-      data->Q(ith) += torque;
-      driver_power += torque * thd;
-    }
-  }
+  for (size_t bi = 0; bi < model.bodies().size(); ++bi)
+    AddBodyResidual(model, data, bi, p, v, vd, r2, &diss_damping, &stiffening_power);
+  AddDriverResidual(model, data, t, y, r, &driver_power);
 
   // Joints: g, G v, + Gᵀλ in F2, − Gᵀμ in F1.
   for (const Joint& jt : model.joints()) {
@@ -175,28 +226,8 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
   }
 
   // Force elements.
-  const auto& elements = model.elements();
-  double* memory = data->element_memory.data();
-  for (size_t ei = 0; ei < elements.size(); ++ei) {
-    const ElementSlot& e = elements[ei];
-    ElementScratch& es = data->elements[ei];
-    es.out = ElementOutput{};
-    if (e.num_states > 0) {
-      es.zdot.setZero();
-      es.out.state_rates = es.zdot.data();
-    }
-    const MarkerKinematics& ki = data->markers[e.marker_i].kin;
-    const MarkerKinematics& kj = data->markers[e.marker_j].kin;
-    const ScopeTimer timer(data->time_elements ? &es.seconds : nullptr);
-    if (!e.element->Evaluate(t, ki, kj, z + e.state_offset, memory + e.memory_offset, &es.out)) {
-      return 1;
-    }
-    AddMarkerForce(model, e.marker_i, *data, es.out.force_i, es.out.moment_i, data->Q.data());
-    AddMarkerForce(model, e.marker_j, *data, es.out.force_j, es.out.moment_j, data->Q.data());
-    for (int k = 0; k < e.num_states; ++k) {
-      r5[e.state_offset + k] = zd[e.state_offset + k] - es.zdot(k);
-    }
-    diss_elements += es.out.dissipation;
+  for (size_t ei = 0; ei < model.elements().size(); ++ei) {
+    if (!AddElementResidual(model, data, ei, t, z, zd, r5, &diss_elements)) return 1;
   }
   for (int i = 0; i < np; ++i) r2[i] -= data->Q(i);
 
