@@ -204,11 +204,76 @@ void ProjectOntoConstraints(const Mechanism& model, RunData* data, double t,
   ComputeConsistentDerivatives(model, data, t, y, yp);
 }
 
+namespace {
+
+/// One fixed-point step towards static equilibrium of the elastic coordinates: hold q̈ = 0 with
+/// extra multipliers ρ (the generalized force still needed on q) and move each body's q by
+/// K Δq = ρ. Returns the largest |Δq|; *qmax receives the largest |q| after the step.
+double StaticEquilibriumStep(const Mechanism& model, RunData* data, double t0,
+                             const std::vector<int>& qidx, const Vec& v, Vec* y, Vec* p,
+                             double* qmax) {
+  const int np = model.num_coordinates(), nc = model.num_constraints(), N = model.size();
+  const int nq = static_cast<int>(qidx.size());
+  *qmax = 0.0;
+  Vec yp = Vec::Zero(N);
+  yp.head(np) = v;
+  Vec r(N);
+  y->segment(model.lambda_offset(), 2 * nc).setZero();
+  if (CalcResidual(model, data, t0, y->data(), yp.data(), r.data()) != 0) {
+    throw NumericalError("static equilibrium: the residual failed");
+  }
+  const Vec Q = -r.segment(np, np);
+  Mat M, G;
+  Vec gt, gamma;
+  CalcMassMatrix(model, data, *p, &M);
+  CalcConstraintJacobian(model, data, t0, *p, &G, &gt);
+  CalcConstraintAccelerationRhs(model, data, t0, *p, v, &gamma);
+  const int na = np + nc + nq;
+  Mat aug = Mat::Zero(na, na);
+  aug.topLeftCorner(np, np) = M;
+  aug.block(0, np, np, nc) = G.transpose();
+  aug.block(np, 0, nc, np) = G;
+  for (int k = 0; k < nq; ++k) {
+    aug(qidx[k], np + nc + k) = 1.0;
+    aug(np + nc + k, qidx[k]) = 1.0;
+  }
+  Vec rhs = Vec::Zero(na);
+  rhs.head(np) = Q;
+  rhs.segment(np, nc) = gamma;
+  Eigen::FullPivLU<Mat> lu(aug);
+  if (!lu.isInvertible()) {
+    throw NumericalError("static equilibrium: singular augmented matrix (rank " +
+                         std::to_string(lu.rank()) + " of " + std::to_string(na) + ")");
+  }
+  const Vec sol = lu.solve(rhs);
+  double change = 0.0;
+  int offset = 0;
+  for (const Body& b : model.bodies()) {
+    const int n = b.num_modes;
+    if (n == 0) continue;
+    const Vec rho = sol.segment(np + nc + offset, n);
+    Eigen::FullPivLU<Mat> klu(b.K);
+    if (!klu.isInvertible()) {
+      throw NumericalError("static equilibrium: the stiffness of body " + b.name +
+                           " is singular (rigid-body content in the basis); use an "
+                           "undeformed start");
+    }
+    const Vec dq = klu.solve(rho);
+    p->segment(b.coordinate(kFirstMode), n) += dq;
+    change = std::max(change, dq.lpNorm<Eigen::Infinity>());
+    *qmax = std::max(*qmax, p->segment(b.coordinate(kFirstMode), n).lpNorm<Eigen::Infinity>());
+    offset += n;
+  }
+  return change;
+}
+
+}  // namespace
+
 ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, double t0,
                                        const InitialConditionSpec& spec) {
   spec.Validate(model);
   FLEXROD_ASSERT(data->model == &model);
-  const int np = model.num_coordinates(), nc = model.num_constraints(), N = model.size();
+  const int np = model.num_coordinates(), N = model.size();
   Vec p = spec.coordinates.size() == np ? spec.coordinates : Vec::Zero(np);
   Vec v = spec.velocities.size() == np ? spec.velocities : Vec::Zero(np);
   std::vector<bool> fix_p(np, false), fix_v(np, false);
@@ -247,59 +312,11 @@ ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, do
     std::vector<int> qidx;
     for (const Body& b : model.bodies())
       for (int k = 0; k < b.num_modes; ++k) qidx.push_back(b.coordinate(kFirstMode + k));
-    const int nq = static_cast<int>(qidx.size());
     bool converged = false;
     double last_change = 0.0;
     for (int it = 0; it < spec.max_equilibrium_iterations && !converged; ++it) {
-      yp.setZero();
-      yp.head(np) = v;
-      Vec r(N);
-      y.segment(model.lambda_offset(), 2 * nc).setZero();
-      if (CalcResidual(model, data, t0, y.data(), yp.data(), r.data()) != 0) {
-        throw NumericalError("static equilibrium: the residual failed");
-      }
-      const Vec Q = -r.segment(np, np);
-      Mat M, G;
-      Vec gt, gamma;
-      CalcMassMatrix(model, data, p, &M);
-      CalcConstraintJacobian(model, data, t0, p, &G, &gt);
-      CalcConstraintAccelerationRhs(model, data, t0, p, v, &gamma);
-      const int na = np + nc + nq;
-      Mat aug = Mat::Zero(na, na);
-      aug.topLeftCorner(np, np) = M;
-      aug.block(0, np, np, nc) = G.transpose();
-      aug.block(np, 0, nc, np) = G;
-      for (int k = 0; k < nq; ++k) {
-        aug(qidx[k], np + nc + k) = 1.0;
-        aug(np + nc + k, qidx[k]) = 1.0;
-      }
-      Vec rhs = Vec::Zero(na);
-      rhs.head(np) = Q;
-      rhs.segment(np, nc) = gamma;
-      Eigen::FullPivLU<Mat> lu(aug);
-      if (!lu.isInvertible()) {
-        throw NumericalError("static equilibrium: singular augmented matrix (rank " +
-                             std::to_string(lu.rank()) + " of " + std::to_string(na) + ")");
-      }
-      const Vec sol = lu.solve(rhs);
-      double change = 0.0, qmax = 0.0;
-      int offset = 0;
-      for (const Body& b : model.bodies()) {
-        const int n = b.num_modes;
-        if (n == 0) continue;
-        const Vec rho = sol.segment(np + nc + offset, n);
-        Eigen::FullPivLU<Mat> klu(b.K);
-        if (!klu.isInvertible()) {
-          throw NumericalError("static equilibrium: the stiffness of body " + b.name +
-                               " is singular (rigid-body content in the basis); use an "
-                               "undeformed start");
-        }
-        const Vec dq = klu.solve(rho);
-        p.segment(b.coordinate(kFirstMode), n) += dq;
-        change = std::max(change, dq.lpNorm<Eigen::Infinity>());
-        qmax = std::max(qmax, p.segment(b.coordinate(kFirstMode), n).lpNorm<Eigen::Infinity>());
-        offset += n;
-      }
+      double qmax = 0.0;
+      const double change = StaticEquilibriumStep(model, data, t0, qidx, v, &y, &p, &qmax);
       solve_positions();
       solve_velocities();
       assemble();
