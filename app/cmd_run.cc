@@ -36,30 +36,22 @@ std::string Ratio(const nlohmann::json& object, const char* key) {
   return buf;
 }
 
-int Run(const RunOptions& opt) {
-  const Config cfg = LoadRunInput(opt.input, opt.sets);
-  CheckCanCreateDirectory("--out", opt.out_dir);  // before the run, not after it
-  const std::optional<Config> check_cfg =
-      opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
-  RunOutputOptions outputs;
-  outputs.vtk_dir = opt.vtk_dir;
-  std::optional<RunPlotter> plotter;
-  if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
-  RunResult run = RunSimulation(cfg, nullptr, false, outputs);
-  if (check_cfg && run.ok()) {
-    std::fprintf(stderr, "flexrod: --check: the same run at rel_tol %s, abs_tol %s\n",
-                 check_cfg->Text("sim.rel_tol").c_str(), check_cfg->Text("sim.abs_tol").c_str());
-    const RunResult reference = RunSimulation(*check_cfg, nullptr, false, {});
-    nlohmann::json check = CompareHeadlineFigures(run.summary, reference.summary);
-    check["rel_tol"] = check_cfg->Quantity("sim.rel_tol");
-    check["abs_tol"] = check_cfg->Quantity("sim.abs_tol");
-    check["reference_outcome"] = multibody::ToString(reference.status.outcome);
-    run.summary["accuracy_check"] = check;
-  }
-  const auto t_files = std::chrono::steady_clock::now();
-  const double bytes = WriteRunFiles(opt.out_dir, cfg, run);
-  const double files_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_files).count();
+/// --check: the same run at the tightened tolerances; the headline figures' differences go into
+/// the run's summary (accuracy_check).
+void RunAccuracyCheck(const Config& check_cfg, RunResult* run) {
+  std::fprintf(stderr, "flexrod: --check: the same run at rel_tol %s, abs_tol %s\n",
+               check_cfg.Text("sim.rel_tol").c_str(), check_cfg.Text("sim.abs_tol").c_str());
+  const RunResult reference = RunSimulation(check_cfg, nullptr, false, {});
+  nlohmann::json check = CompareHeadlineFigures(run->summary, reference.summary);
+  check["rel_tol"] = check_cfg.Quantity("sim.rel_tol");
+  check["abs_tol"] = check_cfg.Quantity("sim.abs_tol");
+  check["reference_outcome"] = multibody::ToString(reference.status.outcome);
+  run->summary["accuracy_check"] = check;
+}
+
+/// The report's figures: integrator, samples, slider acceleration, crank speed, amplification,
+/// rod, energy balance.
+void PrintFigures(const RunOptions& opt, const RunResult& run) {
   const auto& s = run.summary;
   std::printf("flexrod run %s -> %s\n", opt.input.c_str(), opt.out_dir.c_str());
   std::printf("  integrator: %s, %ld steps, %ld residuals, %ld Jacobians, wall %.3f s\n",
@@ -106,6 +98,11 @@ int Run(const RunOptions& opt) {
                 s["energy"]["max_balance_error [J]"].get<double>(),
                 s["energy"]["relative_balance_error"].get<double>());
   }
+}
+
+/// The accuracy check, the warnings (on stderr) and the ParaView series.
+void PrintCheckWarningsAndVtk(const RunResult& run) {
+  const auto& s = run.summary;
   if (s.contains("accuracy_check")) {
     const auto& c = s["accuracy_check"];
     std::printf(
@@ -134,6 +131,25 @@ int Run(const RunOptions& opt) {
                 run.vtk->frames.size(), run.vtk->frame_rate, run.vtk->options.scale,
                 run.vtk_collection.c_str());
   }
+}
+
+int Run(const RunOptions& opt) {
+  const Config cfg = LoadRunInput(opt.input, opt.sets);
+  CheckCanCreateDirectory("--out", opt.out_dir);  // before the run, not after it
+  const std::optional<Config> check_cfg =
+      opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
+  RunOutputOptions outputs;
+  outputs.vtk_dir = opt.vtk_dir;
+  std::optional<RunPlotter> plotter;
+  if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
+  RunResult run = RunSimulation(cfg, nullptr, false, outputs);
+  if (check_cfg && run.ok()) RunAccuracyCheck(*check_cfg, &run);
+  const auto t_files = std::chrono::steady_clock::now();
+  const double bytes = WriteRunFiles(opt.out_dir, cfg, run);
+  const double files_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_files).count();
+  PrintFigures(opt, run);
+  PrintCheckWarningsAndVtk(run);
   std::printf("  files: %.3g MB in %.2f s\n", bytes * 1e-6, files_seconds);
   if (plotter && run.channels.num_samples() > 1) plotter->Finish();
   if (!run.ok()) {
