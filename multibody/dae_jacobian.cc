@@ -343,111 +343,161 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
   return 0;
 }
 
-SparsityPattern JacobianPattern(const Mechanism& model) {
-  const int N = model.size(), np = model.num_coordinates();
-  std::vector<std::set<int64_t>> cols(N);
-  auto mark = [&cols](int r, int c) { cols[c].insert(r); };
-  const auto& bodies = model.bodies();
-  const int F2 = np, F3 = model.lambda_offset(), F4 = model.mu_offset(), F5 = model.z_offset();
-  const int QD = model.quadrature_offset();
-  // Global coordinate indices a marker moves with.
-  auto active = [&](int mi) {
-    std::vector<int> idx;
-    const Marker& m = model.markers()[mi];
-    if (m.body < 0) return idx;
-    for (int s : m.active_slots) idx.push_back(bodies[m.body].coordinate_offset + s);
-    return idx;
-  };
-  for (int i = 0; i < np; ++i) {
-    mark(i, i);
-    mark(i, np + i);
+namespace {
+
+/// The structural non-zeros of the iteration Jacobian, column by column, block by block in the
+/// order AddJacobian fills them.
+class PatternBuilder {
+ public:
+  explicit PatternBuilder(const Mechanism& model)
+      : model_(model),
+        bodies_(model.bodies()),
+        N(model.size()),
+        np(model.num_coordinates()),
+        F2(np),
+        F3(model.lambda_offset()),
+        F4(model.mu_offset()),
+        F5(model.z_offset()),
+        QD(model.quadrature_offset()),
+        cols_(N) {
+    for (int i = 0; i < np; ++i) {
+      mark(i, i);
+      mark(i, np + i);
+    }
+    for (int i = F5; i < N; ++i) mark(i, i);
   }
-  for (int i = F5; i < N; ++i) mark(i, i);
-  for (const Body& b : bodies) {
-    const int o = b.coordinate_offset, nb = b.num_coordinates(), n = b.num_modes;
-    for (int r = 0; r < nb; ++r) {
-      for (int c = 0; c < nb; ++c) {
-        const bool frame = r < 3 || c < 3;
-        if (frame || b.qq_mask[r - 3][c - 3]) {
-          mark(F2 + o + r, o + c);
-          mark(F2 + o + r, np + o + c);
+
+  void MarkBodies() {
+    const auto& bodies = bodies_;
+    for (const Body& b : bodies) {
+      const int o = b.coordinate_offset, nb = b.num_coordinates(), n = b.num_modes;
+      for (int r = 0; r < nb; ++r) {
+        for (int c = 0; c < nb; ++c) {
+          const bool frame = r < 3 || c < 3;
+          if (frame || b.qq_mask[r - 3][c - 3]) {
+            mark(F2 + o + r, o + c);
+            mark(F2 + o + r, np + o + c);
+          }
+        }
+      }
+      for (int k = 0; k < n; ++k) {
+        mark(QD + kDissipatedDamping, np + o + kFirstMode + k);
+        if (b.strain_damping) mark(QD + kDissipatedDamping, o + kFirstMode + k);
+        if (b.geometric_stiffening) {
+          mark(QD + kStiffeningWork, o + kFirstMode + k);
+          mark(QD + kStiffeningWork, np + o + kFirstMode + k);
         }
       }
     }
-    for (int k = 0; k < n; ++k) {
-      mark(QD + kDissipatedDamping, np + o + kFirstMode + k);
-      if (b.strain_damping) mark(QD + kDissipatedDamping, o + kFirstMode + k);
-      if (b.geometric_stiffening) {
-        mark(QD + kStiffeningWork, o + kFirstMode + k);
-        mark(QD + kStiffeningWork, np + o + kFirstMode + k);
+  }
+
+  void MarkDrivers() {
+    const auto& bodies = bodies_;
+    const Mechanism& model = model_;
+    for (const Driver& d : model.drivers()) {
+      const int ith = bodies[d.body].coordinate(kTheta);
+      mark(F2 + ith, np + ith);
+      mark(QD + kDriverWork, np + ith);
+      if (d.is_constraint()) {
+        mark(F3 + d.row, ith);
+        mark(F4 + d.row, np + ith);
+        mark(F2 + ith, model.lambda_offset() + d.row);
+        mark(ith, model.mu_offset() + d.row);
+        mark(QD + kDriverWork, model.lambda_offset() + d.row);
       }
     }
   }
-  for (const Driver& d : model.drivers()) {
-    const int ith = bodies[d.body].coordinate(kTheta);
-    mark(F2 + ith, np + ith);
-    mark(QD + kDriverWork, np + ith);
-    if (d.is_constraint()) {
-      mark(F3 + d.row, ith);
-      mark(F4 + d.row, np + ith);
-      mark(F2 + ith, model.lambda_offset() + d.row);
-      mark(ith, model.mu_offset() + d.row);
-      mark(QD + kDriverWork, model.lambda_offset() + d.row);
+
+  void MarkJoints() {
+    const auto& bodies = bodies_;
+    const Mechanism& model = model_;
+    for (const Joint& jt : model.joints()) {
+      std::vector<int> idx;
+      if (jt.kind == JointKind::kGround) {
+        for (int k = 0; k < 3; ++k) idx.push_back(bodies[jt.body].coordinate_offset + k);
+      } else {
+        idx = active(jt.marker_i);
+        for (int c : active(jt.marker_j)) idx.push_back(c);
+      }
+      for (int k = 0; k < jt.num_rows; ++k) {
+        const int row = jt.row + k;
+        for (int c : idx) {
+          mark(F3 + row, c);
+          mark(F4 + row, c);
+          mark(F4 + row, np + c);
+          mark(F2 + c, model.lambda_offset() + row);
+          mark(c, model.mu_offset() + row);
+        }
+      }
+      for (int r : idx) {
+        for (int c : idx) {
+          mark(F2 + r, c);
+          mark(r, c);
+        }
+      }
     }
   }
-  for (const Joint& jt : model.joints()) {
+
+  void MarkElements() {
+    for (const ElementSlot& e : model_.elements()) {
+      std::vector<int> idx = active(e.marker_i);
+      for (int c : active(e.marker_j)) idx.push_back(c);
+      const int zc = F5 + e.state_offset;
+      for (int r : idx) {
+        for (int c : idx) {
+          mark(F2 + r, c);
+          mark(F2 + r, np + c);
+        }
+        for (int k = 0; k < e.num_states; ++k) mark(F2 + r, zc + k);
+      }
+      for (int k = -1; k < e.num_states; ++k) {
+        const int row = k < 0 ? QD + kDissipatedElements : zc + k;
+        for (int c : idx) {
+          mark(row, c);
+          mark(row, np + c);
+        }
+        for (int kk = 0; kk < e.num_states; ++kk) mark(row, zc + kk);
+      }
+    }
+  }
+
+  SparsityPattern Finish() const {
+    SparsityPattern pat;
+    pat.size = N;
+    pat.col_ptr.assign(N + 1, 0);
+    for (int c = 0; c < N; ++c) {
+      pat.col_ptr[c + 1] = pat.col_ptr[c] + static_cast<int64_t>(cols_[c].size());
+      for (int64_t r : cols_[c]) pat.row_index.push_back(r);
+    }
+    return pat;
+  }
+
+ private:
+  void mark(int r, int c) { cols_[c].insert(r); }
+  // Global coordinate indices a marker moves with.
+  std::vector<int> active(int mi) const {
     std::vector<int> idx;
-    if (jt.kind == JointKind::kGround) {
-      for (int k = 0; k < 3; ++k) idx.push_back(bodies[jt.body].coordinate_offset + k);
-    } else {
-      idx = active(jt.marker_i);
-      for (int c : active(jt.marker_j)) idx.push_back(c);
-    }
-    for (int k = 0; k < jt.num_rows; ++k) {
-      const int row = jt.row + k;
-      for (int c : idx) {
-        mark(F3 + row, c);
-        mark(F4 + row, c);
-        mark(F4 + row, np + c);
-        mark(F2 + c, model.lambda_offset() + row);
-        mark(c, model.mu_offset() + row);
-      }
-    }
-    for (int r : idx) {
-      for (int c : idx) {
-        mark(F2 + r, c);
-        mark(r, c);
-      }
-    }
+    const Marker& m = model_.markers()[mi];
+    if (m.body < 0) return idx;
+    for (int s : m.active_slots) idx.push_back(bodies_[m.body].coordinate_offset + s);
+    return idx;
   }
-  for (const ElementSlot& e : model.elements()) {
-    std::vector<int> idx = active(e.marker_i);
-    for (int c : active(e.marker_j)) idx.push_back(c);
-    const int zc = F5 + e.state_offset;
-    for (int r : idx) {
-      for (int c : idx) {
-        mark(F2 + r, c);
-        mark(F2 + r, np + c);
-      }
-      for (int k = 0; k < e.num_states; ++k) mark(F2 + r, zc + k);
-    }
-    for (int k = -1; k < e.num_states; ++k) {
-      const int row = k < 0 ? QD + kDissipatedElements : zc + k;
-      for (int c : idx) {
-        mark(row, c);
-        mark(row, np + c);
-      }
-      for (int kk = 0; kk < e.num_states; ++kk) mark(row, zc + kk);
-    }
-  }
-  SparsityPattern pat;
-  pat.size = N;
-  pat.col_ptr.assign(N + 1, 0);
-  for (int c = 0; c < N; ++c) {
-    pat.col_ptr[c + 1] = pat.col_ptr[c] + static_cast<int64_t>(cols[c].size());
-    for (int64_t r : cols[c]) pat.row_index.push_back(r);
-  }
-  return pat;
+
+  const Mechanism& model_;
+  const std::vector<Body>& bodies_;
+  const int N, np, F2, F3, F4, F5, QD;  // sizes and row-block offsets, as AddJacobian's
+  std::vector<std::set<int64_t>> cols_;
+};
+
+}  // namespace
+
+SparsityPattern JacobianPattern(const Mechanism& model) {
+  PatternBuilder pattern(model);
+  pattern.MarkBodies();
+  pattern.MarkDrivers();
+  pattern.MarkJoints();
+  pattern.MarkElements();
+  return pattern.Finish();
 }
 
 }  // namespace flexrod::multibody
