@@ -175,42 +175,9 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
   // Rod centre line: FE nodes of a flexible rod, the two clamp nodes of a rigid one.
   L.rod_first = next;
   if (model.rod) {
-    const fem::ReducedRod& rod = *model.rod;
-    for (const fem::MarkerShape& node : rod.nodes)
-      carried_.push_back({next++, node.position, node.S_u});
-    const int nn = rod.rod.num_nodes(), n = rod.num_coordinates();
-    const double E = rod.rod.material.youngs_modulus;
-    const double y = rod.rod.section.half_depth_in_plane();
-    const double h = kNodeLimitOffset * rod.rod.element_length();
-    axial_rows_ = Mat::Zero(nn, n);
-    bending_rows_ = Mat::Zero(nn, n);
-    // The second-order membrane strain (rod.geometric_stiffening), as the gauges read it.
-    const bool membrane = cfg.Bool("rod.geometric_stiffening");
-    if (membrane) axial_quadratic_.assign(nn, Mat::Zero(n, n));
-    for (int k = 0; k < nn; ++k) {
-      const double x = rod.rod.node_x(k);
-      int sides = 0;
-      for (const double xs : {x - h, x + h}) {
-        if (xs < 0.0 || xs > rod.rod.length) continue;
-        const fem::StrainGaugeRows g = rod.Gauge("node" + std::to_string(k), xs, y);
-        axial_rows_.row(k) += E * g.axial;
-        bending_rows_.row(k) += E * g.bending;
-        if (membrane) axial_quadratic_[k] += E * g.membrane;
-        ++sides;
-      }
-      axial_rows_.row(k) /= sides;
-      bending_rows_.row(k) /= sides;
-      if (membrane) axial_quadratic_[k] /= sides;
-    }
+    LayOutReducedRod(cfg, &next);
   } else if (model.exact) {
-    // The exact rod's node bodies: one layout point each; Frame() sets it from the body's
-    // coordinates (u0 = the node's place on the undeformed rod, no shape rows).
-    const fem::RodSpec& rod = model.exact->rod;
-    for (int k = 0; k < rod.num_nodes(); ++k)
-      carried_.push_back({next++, Vec2(rod.node_x(k), 0.0), Mat2X(2, 0)});
-    exact_ = std::make_shared<const ExactRodView>(m, *model.exact);
-    exact_E_ = rod.material.youngs_modulus;
-    exact_fibre_ = rod.section.half_depth_in_plane();
+    LayOutExactRod(&next);
   } else {
     const double length = cfg.Quantity("rod.length");
     carried_.push_back({next++, Vec2::Zero(), Mat2X(2, 0)});
@@ -226,44 +193,94 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
   for (int k = 0; k < L.rod_count; ++k) rod_line[k] = L.rod_first + k;
   L.cells.push_back({kVtkPolyLine, VtkPart::kRod, rod_line});
   L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.big_end, L.rod_first}});
-  if (!model.crank.is_ground()) {  // a slider-crank: crank, slider, small-end clamp and joint
-    // Where the small-end clamp is a body of its own, Frame() draws the bush at its marker.
-    const multibody::Marker& small = m.marker(model.small_end);
-    L.small_end = next++;
-    carried_.push_back({L.small_end, small.position, small.S_u});
-    L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.rod_first + L.rod_count - 1, L.small_end}});
-    L.crank_axis = next++;
-    L.crank_pin = next++;
-    L.cells.push_back({kVtkLine, VtkPart::kCrank, {L.crank_axis, L.crank_pin}});
-    L.slider_first = next;
-    next += 4;
-    L.cells.push_back(
-        {kVtkQuad,
-         VtkPart::kSlider,
-         {L.slider_first, L.slider_first + 1, L.slider_first + 2, L.slider_first + 3}});
-    const double bush = cfg.Quantity("joint.bush_radius");
-    RequirePositive("joint.bush_radius", bush);
-    slider_half_length_ = kSliderHalfLengthInBushRadii * bush;
-    slider_half_height_ = kSliderHalfHeightInBushRadii * bush;
-    if (model.clearance.index >= 0) {
-      const auto* joint =
-          dynamic_cast<const multibody::ClearanceJoint*>(m.element(model.clearance).element.get());
-      FLEXROD_ASSERT(joint != nullptr);
-      bush_radius_ = joint->geometry().bush_radius;
-      pin_radius_ = joint->geometry().pin_radius;
-      L.circle_points = kCirclePoints;
-      for (auto [first, part] :
-           {std::pair{&L.bush_first, VtkPart::kBush}, std::pair{&L.pin_first, VtkPart::kPin}}) {
-        *first = next;
-        std::vector<int> ring(kCirclePoints + 1);
-        for (int i = 0; i < kCirclePoints; ++i) ring[i] = next + i;
-        ring[kCirclePoints] = next;  // closed
-        next += kCirclePoints;
-        L.cells.push_back({kVtkPolyLine, part, ring});
-      }
+  if (!model.crank.is_ground()) LayOutSliderCrank(cfg, &next);  // crank, slider, joint
+  L.num_points = next;
+}
+
+/// The reduced rod's FE nodes, carried by its frame and shape rows, with their stress rows.
+void VtkRecorder::LayOutReducedRod(const Config& cfg, int* next_point) {
+  int& next = *next_point;
+  const fem::ReducedRod& rod = *model_.rod;
+  for (const fem::MarkerShape& node : rod.nodes)
+    carried_.push_back({next++, node.position, node.S_u});
+  const int nn = rod.rod.num_nodes(), n = rod.num_coordinates();
+  const double E = rod.rod.material.youngs_modulus;
+  const double y = rod.rod.section.half_depth_in_plane();
+  const double h = kNodeLimitOffset * rod.rod.element_length();
+  axial_rows_ = Mat::Zero(nn, n);
+  bending_rows_ = Mat::Zero(nn, n);
+  // The second-order membrane strain (rod.geometric_stiffening), as the gauges read it.
+  const bool membrane = cfg.Bool("rod.geometric_stiffening");
+  if (membrane) axial_quadratic_.assign(nn, Mat::Zero(n, n));
+  for (int k = 0; k < nn; ++k) {
+    const double x = rod.rod.node_x(k);
+    int sides = 0;
+    for (const double xs : {x - h, x + h}) {
+      if (xs < 0.0 || xs > rod.rod.length) continue;
+      const fem::StrainGaugeRows g = rod.Gauge("node" + std::to_string(k), xs, y);
+      axial_rows_.row(k) += E * g.axial;
+      bending_rows_.row(k) += E * g.bending;
+      if (membrane) axial_quadratic_[k] += E * g.membrane;
+      ++sides;
+    }
+    axial_rows_.row(k) /= sides;
+    bending_rows_.row(k) /= sides;
+    if (membrane) axial_quadratic_[k] /= sides;
+  }
+}
+
+/// The exact rod's node bodies: one layout point each; Frame() sets it from the body's
+/// coordinates (u0 = the node's place on the undeformed rod, no shape rows).
+void VtkRecorder::LayOutExactRod(int* next_point) {
+  int& next = *next_point;
+  const fem::RodSpec& rod = model_.exact->rod;
+  for (int k = 0; k < rod.num_nodes(); ++k)
+    carried_.push_back({next++, Vec2(rod.node_x(k), 0.0), Mat2X(2, 0)});
+  exact_ = std::make_shared<const ExactRodView>(model_.mechanism, *model_.exact);
+  exact_E_ = rod.material.youngs_modulus;
+  exact_fibre_ = rod.section.half_depth_in_plane();
+}
+
+/// A slider-crank's parts: the small-end clamp, the crank, the slider, and with a clearance
+/// joint the bush and pin circles.
+void VtkRecorder::LayOutSliderCrank(const Config& cfg, int* next_point) {
+  int& next = *next_point;
+  const multibody::Mechanism& m = model_.mechanism;
+  VtkLayout& L = series_.layout;
+  // Where the small-end clamp is a body of its own, Frame() draws the bush at its marker.
+  const multibody::Marker& small = m.marker(model_.small_end);
+  L.small_end = next++;
+  carried_.push_back({L.small_end, small.position, small.S_u});
+  L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.rod_first + L.rod_count - 1, L.small_end}});
+  L.crank_axis = next++;
+  L.crank_pin = next++;
+  L.cells.push_back({kVtkLine, VtkPart::kCrank, {L.crank_axis, L.crank_pin}});
+  L.slider_first = next;
+  next += 4;
+  L.cells.push_back({kVtkQuad,
+                     VtkPart::kSlider,
+                     {L.slider_first, L.slider_first + 1, L.slider_first + 2, L.slider_first + 3}});
+  const double bush = cfg.Quantity("joint.bush_radius");
+  RequirePositive("joint.bush_radius", bush);
+  slider_half_length_ = kSliderHalfLengthInBushRadii * bush;
+  slider_half_height_ = kSliderHalfHeightInBushRadii * bush;
+  if (model_.clearance.index >= 0) {
+    const auto* joint =
+        dynamic_cast<const multibody::ClearanceJoint*>(m.element(model_.clearance).element.get());
+    FLEXROD_ASSERT(joint != nullptr);
+    bush_radius_ = joint->geometry().bush_radius;
+    pin_radius_ = joint->geometry().pin_radius;
+    L.circle_points = kCirclePoints;
+    for (auto [first, part] :
+         {std::pair{&L.bush_first, VtkPart::kBush}, std::pair{&L.pin_first, VtkPart::kPin}}) {
+      *first = next;
+      std::vector<int> ring(kCirclePoints + 1);
+      for (int i = 0; i < kCirclePoints; ++i) ring[i] = next + i;
+      ring[kCirclePoints] = next;  // closed
+      next += kCirclePoints;
+      L.cells.push_back({kVtkPolyLine, part, ring});
     }
   }
-  L.num_points = next;
 }
 
 VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {

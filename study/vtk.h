@@ -117,6 +117,10 @@ class VtkRecorder {
   VtkSeries Finish() { return std::move(series_); }
 
  private:
+  void LayOutReducedRod(const Config& cfg, int* next_point);
+  void LayOutExactRod(int* next_point);
+  void LayOutSliderCrank(const Config& cfg, int* next_point);
+
   const MechanismModel& model_;
   VtkSeries series_;
   /// A drawn point carried by the rod (drawn as in the header paragraph).
