@@ -1,21 +1,45 @@
-// contact/normal_law.cc — normal contact laws: names, evaluation, materials and geometry
-// (parameter resolution: contact/normal_law_resolve.cc; see normal_law.h for formulas,
-// conventions and sources).
+// contact/normal_law.cc — normal contact laws, one place per law: its name and keys, its
+// evaluation, its parameters resolved from materials, geometry and overrides (the numerical
+// calibrations they use: contact/normal_law_calibration.h; formulas, conventions and sources:
+// normal_law.h).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "contact/normal_law.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
 
 #include "common/error.h"
-#include "contact/normal_law_detail.h"
+#include "contact/normal_law_calibration.h"
 
 namespace flexrod::contact {
-namespace normal_law_detail {
+namespace {
+
+using normal_law_calibration::CurveLimitPenetration;
+using normal_law_calibration::CurvePenetration;
+using normal_law_calibration::DubowskyFreudensteinCurve;
+using normal_law_calibration::EsduCurve;
+using normal_law_calibration::FitPowerLaw;
+using normal_law_calibration::ImpactDamping;
+using normal_law_calibration::JohnsonCurve;
+using normal_law_calibration::KelvinVoigtDampingRatio;
+using normal_law_calibration::LinearisedHertz;
+using normal_law_calibration::MaxwellDampingRatio;
+using normal_law_calibration::PowerFit;
+using normal_law_calibration::SlsDamping;
+using normal_law_calibration::SolveCurve;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A law's name and the parameter keys it accepts.
+struct LawSpec {
+  const char* name;
+  std::vector<std::string> keys;
+};
 
 // ---- names and accepted keys ----------------------------------------------------------------
 
@@ -66,73 +90,73 @@ std::string StiffnessUnit(double exponent) {
   return exponent == 1.0 ? std::string("N/m") : "N/m^" + FormatValue(exponent);
 }
 
-// ---- line-contact log curves ----------------------------------------------------------------
+// ---- override validation ----------------------------------------------------------------------
 
-double CurvePenetration(const LogLineCurve& c, double force) {
-  if (!(force > 0.0)) return 0.0;
-  return c.coefficient * force * (std::log(c.force_scale / force) + c.constant);
-}
-double CurveLimitForce(const LogLineCurve& c) { return c.force_scale * std::exp(c.constant - 1.0); }
-double CurveLimitPenetration(const LogLineCurve& c) { return c.coefficient * CurveLimitForce(c); }
-
-/// Solves a F [ln(b/F) + c₀] = δ on the monotone branch by safeguarded Newton in y = ln(F/b).
-/// ψ(y) = y + ln(c₀ − y) − ln(δ/(ab)) is increasing (ψ' = 1 − 1/(c₀ − y) > 0 for y < c₀ − 1) and
-/// concave (ψ'' < 0), so from any start the first Newton iterate lies left of the root and the
-/// iterates then increase monotonically to it: convergence is guaranteed without a bracket
-/// (quadratic away from the branch limit, linear at it). The step is kept inside the branch.
-void SolveCurve(const LogLineCurve& c, double penetration, double* force, double* slope) {
-  const double a = c.coefficient, b = c.force_scale, c0 = c.constant;
-  const double limit_penetration = CurveLimitPenetration(c);
-  if (penetration >= limit_penetration) {
-    // Beyond the elastic branch: continue with the secant slope F_lim/δ_lim = 1/a.
-    *force = CurveLimitForce(c) + (penetration - limit_penetration) / a;
-    *slope = 1.0 / a;
-    return;
+void ValidateOverride(const std::string& key, double v) {
+  const bool finite = std::isfinite(v);
+  if (key == "restitution") {
+    Require(finite && v > 0.0 && v <= 1.0, key, v, "coefficient of restitution must lie in (0, 1]");
+  } else if (key == "exponent") {
+    Require(finite && v >= 1.0 && v <= 10.0, key, v,
+            "force exponent must lie in [1, 10] (n >= 1 keeps dF/ddelta finite at delta = 0)");
+  } else if (key == "damping" || key == "max-damping") {
+    Require(finite && v >= 0.0, key, v, "must be finite and >= 0 [N*s/m]");
+  } else {
+    // stiffness, stiffness-2, effective-mass, working-penetration, min-approach-velocity,
+    // damping-penetration, compliance
+    Require(finite && v > 0.0, key, v, "must be finite and > 0");
   }
-  const double log_target = std::log(penetration / (a * b));
-  const double y_limit = c0 - 1.0;
-  // Start: one fixed-point step of x = δ̂/(c₀ − ln x) from x = δ̂.
-  double y = log_target - std::log(std::max(c0 - log_target, 1.5));
-  if (!(y < y_limit)) y = y_limit - 0.5;
-  for (int iter = 0; iter < 400; ++iter) {
-    const double u = c0 - y;  // > 1 on the branch
-    const double psi = y + std::log(u) - log_target;
-    if (psi == 0.0) break;
-    const double dpsi = 1.0 - 1.0 / u;
-    double y_new = y - psi / dpsi;
-    if (!(y_new < y_limit)) y_new = 0.5 * (y + y_limit);
-    const double dy = y_new - y;
-    y = y_new;
-    if (std::abs(dy) <= 2e-15 * std::max(1.0, std::abs(y))) break;
+}
+
+/// Collects the resolved record while reading overrides with their defaults.
+class Resolver {
+ public:
+  Resolver(const LawSpec& spec, const ParameterMap& overrides)
+      : spec_(spec), overrides_(overrides) {
+    for (const auto& [key, value] : overrides) {
+      if (std::find(spec.keys.begin(), spec.keys.end(), key) == spec.keys.end()) {
+        throw InputError(key, FormatValue(value),
+                         std::string("law '") + spec.name +
+                             "' does not take this parameter; it takes: " + JoinNames(spec.keys));
+      }
+      ValidateOverride(key, value);
+    }
   }
-  *force = b * std::exp(y);
-  const double u = c0 - y;
-  *slope = 1.0 / (a * (u - 1.0));
-}
+  bool Has(const std::string& key) const { return overrides_.count(key) > 0; }
+  /// The override if given, else `fallback` (recorded with `source`).
+  template <typename Fallback>
+  double Get(const std::string& key, const std::string& unit, Fallback&& fallback,
+             const char* source = "derived") {
+    auto it = overrides_.find(key);
+    double v;
+    const char* src;
+    if (it != overrides_.end()) {
+      v = it->second;
+      src = "input";
+    } else {
+      v = fallback();
+      src = source;
+    }
+    Record(key, v, unit, src);
+    return v;
+  }
+  void Record(const std::string& name, double value, const std::string& unit, const char* source) {
+    params_.push_back({name, value, unit, source});
+  }
+  /// Fixes the unit of an already-recorded entry (stiffness units depend on the exponent).
+  void SetUnit(const std::string& name, const std::string& unit) {
+    for (auto& p : params_) {
+      if (p.name == name) p.unit = unit;
+    }
+  }
+  std::vector<ResolvedParameter> Take() { return std::move(params_); }
+  const char* law() const { return spec_.name; }
 
-LogLineCurve EsduCurve(double compliance, double length, double clearance) {
-  return {compliance / length, 4.0 * length * clearance / compliance, 1.0};
-}
-LogLineCurve JohnsonCurve(double compliance, double length, double clearance) {
-  return {compliance / length, 4.0 * length * clearance / compliance, -1.0};
-}
-LogLineCurve DubowskyFreudensteinCurve(double compliance, double length, double clearance,
-                                       double bush_radius, double pin_radius) {
-  return {compliance / length,
-          length * length * length * clearance / (bush_radius * pin_radius * compliance), 1.0};
-}
-
-}  // namespace normal_law_detail
-
-using normal_law_detail::CurveLimitPenetration;
-using normal_law_detail::CurvePenetration;
-using normal_law_detail::FindSpec;
-using normal_law_detail::kInf;
-using normal_law_detail::LawSpec;
-using normal_law_detail::LawSpecs;
-using normal_law_detail::SolveCurve;
-
-namespace {
+ private:
+  const LawSpec& spec_;
+  const ParameterMap& overrides_;
+  std::vector<ResolvedParameter> params_;
+};
 
 // ---- evaluation per law ---------------------------------------------------------------------
 
@@ -204,47 +228,273 @@ NormalForce Eval(const Law& l, double d, double r, double v0, const LawState&) {
   return EvalHysteresis(l.hysteresis, d, r, v0);
 }
 
+// ---- resolution per law -------------------------------------------------------------------------
+
+struct Context {
+  const ContactMaterials& materials;
+  const ContactGeometry& geometry;
+  double effective_modulus;
+  double internal_radius;
+  double hertz_stiffness;
+  double pi_compliance;
+};
+
+double Restitution(Resolver& r, const Context& c) {
+  return r.Get(
+      "restitution", "1", [&] { return c.materials.restitution; }, "input");
+}
+
+void RecordHertzBasis(Resolver& r, const Context& c) {
+  r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
+  r.Record("internal-radius", c.internal_radius, "m", "derived");
+}
+
+/// Stiffness and exponent of a Hertz-family law (K default (4/3)E*√R*, n default 1.5).
+std::pair<double, double> HertzStiffnessExponent(Resolver& r, const Context& c) {
+  RecordHertzBasis(r, c);
+  const double k = r.Get("stiffness", "", [&] { return c.hertz_stiffness; });
+  const double n = r.Get(
+      "exponent", "1", [] { return 1.5; }, "default");
+  r.SetUnit("stiffness", StiffnessUnit(n));
+  return {k, n};
+}
+
+double LinearStiffness(Resolver& r, const Context& c, double fraction = 1.0) {
+  RecordHertzBasis(r, c);
+  const double w = r.Get(
+      "working-penetration", "m", [] { return kDefaultWorkingPenetration; }, "default");
+  return r.Get("stiffness", "N/m",
+               [&] { return fraction * LinearisedHertz(c.hertz_stiffness, w); });
+}
+
+double EffectiveMass(Resolver& r, const char* law, const char* why, double restitution) {
+  if (!r.Has("effective-mass")) {
+    if (restitution >= 1.0) return 1.0;  // elastic: the damping (0 or +inf) does not depend on m
+    throw InputError("effective-mass", "(not given)",
+                     std::string("law '") + law + "' needs the effective mass [kg] " + why +
+                         ", or an explicit damping");
+  }
+  return r.Get("effective-mass", "kg", [] { return 0.0; });
+}
+
+HysteresisParameters Hysteresis(Resolver& r, const Context& c, double stiffness, double exponent,
+                                double (*factor)(double)) {
+  const double e = Restitution(r, c);
+  const double v = r.Get(
+      "min-approach-velocity", "m/s", [] { return kDefaultMinApproachVelocity; }, "default");
+  const double dtilde = factor(e);
+  r.Record("damping-factor", dtilde, "1", "derived");
+  return {stiffness, exponent, e, dtilde, v};
+}
+
+double LnFactor(double e) { return 0.75 * (1.0 - e * e); }
+double HcFactor(double e) { return 1.5 * (1.0 - e); }
+double FloresFactor(double e) { return 1.6 * (1.0 - e) / e; }
+double GonthierFactor(double e) { return (1.0 - e * e) / e; }
+
+double Compliance(Resolver& r, const Context& c) {
+  r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
+  r.Record("length", c.geometry.length, "m", "input");
+  r.Record("clearance", c.geometry.clearance(), "m", "derived");
+  return r.Get("compliance", "1/Pa", [&] { return c.pi_compliance; });
+}
+
+/// The linear laws: a spring, alone or with a dashpot in parallel, in series, or both.
+NormalLaw BuildLinearLaw(std::string_view name, Resolver& r, const Context& c) {
+  if (name == "linear-spring") {
+    return LinearSpringLaw{LinearStiffness(r, c)};
+  }
+  if (name == "kelvin-voigt") {
+    const double k = LinearStiffness(r, c);
+    const double e = Restitution(r, c);
+    if (r.Has("damping")) return KelvinVoigtLaw{k, r.Get("damping", "N*s/m", [] { return 0.0; })};
+    const double m =
+        EffectiveMass(r, "kelvin-voigt", "to derive the damping from the restitution", e);
+    const double zeta = KelvinVoigtDampingRatio(e);
+    r.Record("damping-ratio", zeta, "1", "derived");
+    return KelvinVoigtLaw{k,
+                          r.Get("damping", "N*s/m", [&] { return 2.0 * zeta * std::sqrt(k * m); })};
+  }
+  if (name == "maxwell") {
+    const double k = LinearStiffness(r, c);
+    const double e = Restitution(r, c);
+    if (r.Has("damping")) {
+      const double d = r.Get("damping", "N*s/m", [] { return 0.0; });
+      Require(d > 0.0, "damping", d, "maxwell needs a dashpot damping > 0 [N*s/m]");
+      return MaxwellLaw{k, d};
+    }
+    const double m = EffectiveMass(r, "maxwell", "to derive the damping from the restitution", e);
+    const double zeta = MaxwellDampingRatio(e);
+    r.Record("damping-ratio", zeta, "1", "derived");
+    return MaxwellLaw{k, r.Get("damping", "N*s/m", [&] {
+                        return zeta > 0.0 ? std::sqrt(k * m) / (2.0 * zeta) : kInf;
+                      })};
+  }
+  if (name == "standard-linear-solid") {
+    const double k1 = LinearStiffness(r, c, 0.5);
+    const double k2 = r.Get("stiffness-2", "N/m", [&] { return k1; });
+    const double e = Restitution(r, c);
+    if (r.Has("damping")) {
+      const double d = r.Get("damping", "N*s/m", [] { return 0.0; });
+      Require(d > 0.0, "damping", d, "standard-linear-solid needs a dashpot damping > 0 [N*s/m]");
+      return StandardLinearSolidLaw{k1, k2, d};
+    }
+    const double m =
+        EffectiveMass(r, "standard-linear-solid", "to calibrate the damping to the restitution", e);
+    return StandardLinearSolidLaw{
+        k1, k2, r.Get("damping", "N*s/m", [&] { return SlsDamping(k1, k2, m, e); })};
+  }
+  throw std::logic_error("normal law table and builder disagree on " + std::string(name));
+}
+
+/// Hertz's K δⁿ, alone, with a hysteresis damping form, or elasto-plastic.
+NormalLaw BuildHertzLaw(std::string_view name, Resolver& r, const Context& c) {
+  if (name == "hertz") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return HertzLaw{k, n};
+  }
+  if (name == "lankarani-nikravesh") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return LankaraniNikraveshLaw{Hysteresis(r, c, k, n, LnFactor)};
+  }
+  if (name == "hunt-crossley") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return HuntCrossleyLaw{Hysteresis(r, c, k, n, HcFactor)};
+  }
+  if (name == "flores") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return FloresLaw{Hysteresis(r, c, k, n, FloresFactor)};
+  }
+  if (name == "gonthier") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return GonthierLaw{Hysteresis(r, c, k, n, GonthierFactor)};
+  }
+  if (name == "elasto-plastic") {
+    auto [k, n] = HertzStiffnessExponent(r, c);
+    return ElastoPlasticLaw{k, n, Restitution(r, c)};
+  }
+  throw std::logic_error("normal law table and builder disagree on " + std::string(name));
+}
+
+/// ADAMS IMPACT, its maximum damping calibrated to the restitution.
+NormalLaw BuildImpactLaw(Resolver& r, const Context& c) {
+  // Named, not a structured binding: clang 14 (the fuzz build) refuses to capture one.
+  const std::pair<double, double> kn = HertzStiffnessExponent(r, c);
+  const double k = kn.first, n = kn.second;
+  const double dmax = r.Get(
+      "damping-penetration", "m", [] { return kDefaultImpactDampingPenetration; }, "default");
+  const double e = Restitution(r, c);
+  if (r.Has("max-damping")) {
+    return ImpactFunctionLaw{k, n, r.Get("max-damping", "N*s/m", [] { return 0.0; }), dmax};
+  }
+  const double m = EffectiveMass(r, "impact", "to calibrate max-damping to the restitution", e);
+  const double v = r.Get(
+      "calibration-velocity", "m/s", [] { return kDefaultCalibrationVelocity; }, "default");
+  const double cmax =
+      r.Get("max-damping", "N*s/m", [&] { return ImpactDamping(k, n, dmax, m, v, e); });
+  return ImpactFunctionLaw{k, n, cmax, dmax};
+}
+
+/// The line-contact laws of a pin in a bush: log curves from the compliance.
+NormalLaw BuildLineLaw(std::string_view name, Resolver& r, const Context& c) {
+  const ContactGeometry& g = c.geometry;
+  if (name == "esdu-78035") {
+    const double h = Compliance(r, c);
+    const LogLineCurve curve = EsduCurve(h, g.length, g.clearance());
+    r.Record("branch-limit-penetration", CurveLimitPenetration(curve), "m", "derived");
+    return Esdu78035Law{h, g.length, g.clearance(), curve};
+  }
+  if (name == "johnson") {
+    const double h = Compliance(r, c);
+    const LogLineCurve curve = JohnsonCurve(h, g.length, g.clearance());
+    r.Record("branch-limit-penetration", CurveLimitPenetration(curve), "m", "derived");
+    return JohnsonLaw{h, g.length, g.clearance(), curve};
+  }
+  if (name == "dubowsky-freudenstein") {
+    const double h = Compliance(r, c);
+    const LogLineCurve curve =
+        DubowskyFreudensteinCurve(h, g.length, g.clearance(), g.bush_radius, g.pin_radius);
+    r.Record("branch-limit-penetration", CurveLimitPenetration(curve), "m", "derived");
+    return DubowskyFreudensteinLaw{h, g.length, g.clearance(), g.bush_radius, g.pin_radius, curve};
+  }
+  throw std::logic_error("normal law table and builder disagree on " + std::string(name));
+}
+
+/// Pereira, Ramalho, Ambrósio 2011, internal contact; fit units mm, N, N/mm².
+NormalLaw BuildPereiraLaw(Resolver& r, const Context& c) {
+  const ContactGeometry& g = c.geometry;
+  // Pereira, Ramalho, Ambrósio 2011, internal contact; fit units mm, N, N/mm².
+  const double clearance_mm = g.clearance() * 1e3;
+  const double length_mm = g.length * 1e3;
+  const double modulus_nmm2 = c.effective_modulus * 1e-6;
+  r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
+  r.Record("clearance", g.clearance(), "m", "derived");
+  const double n = r.Get("exponent", "1", [&] {
+    double y;
+    if (clearance_mm >= 0.005 && clearance_mm <= 0.34954) {
+      y = 1.51 * std::pow(std::log(1000.0 * clearance_mm), -0.151);
+    } else if (clearance_mm > 0.34954 && clearance_mm <= 10.0) {
+      y = 0.0151 * clearance_mm + 1.151;
+    } else {
+      throw InputError("contact.clearance", FormatValue(clearance_mm) + " mm",
+                       "the Pereira et al. (2011) exponent fit holds for 0.005 mm <= clearance "
+                       "<= 10 mm; give the exponent explicitly");
+    }
+    return y * std::pow(clearance_mm, -0.005);
+  });
+  const double k = r.Get("stiffness", StiffnessUnit(n), [&] {
+    const double k_mm = (0.965 * clearance_mm + 0.0965) * length_mm * modulus_nmm2 / clearance_mm;
+    return k_mm * std::pow(1000.0, n);  // N/mm^n → N/m^n
+  });
+  return PereiraLaw{Hysteresis(r, c, k, n, LnFactor), g.clearance()};
+}
+
+/// The thesis's hybrid law: the ESDU-78035 curve fitted by K δⁿ over the working
+/// penetration, with Lankarani–Nikravesh damping.
+NormalLaw BuildHybridLaw(Resolver& r, const Context& c) {
+  const ContactGeometry& g = c.geometry;
+  r.Record("effective-modulus", c.effective_modulus, "Pa", "derived");
+  r.Record("internal-radius", c.internal_radius, "m", "derived");
+  r.Record("lankarani-nikravesh-stiffness", c.hertz_stiffness, "N/m^1.5", "derived");
+  const double n = r.Get(
+      "exponent", "1", [] { return 1.5; }, "default");
+  const double w = r.Get(
+      "working-penetration", "m", [] { return kDefaultWorkingPenetration; }, "default");
+  const LogLineCurve esdu = EsduCurve(c.pi_compliance, g.length, g.clearance());
+  if (!(w < CurveLimitPenetration(esdu))) {
+    throw InputError("working-penetration", FormatValue(w) + " m",
+                     "must be below the ESDU-78035 branch limit 4*clearance = " +
+                         FormatValue(CurveLimitPenetration(esdu)) + " m");
+  }
+  const PowerFit fit = FitPowerLaw(
+      [&](double d) {
+        double f, s;
+        SolveCurve(esdu, d, &f, &s);
+        return d > 0.0 ? f : 0.0;
+      },
+      n, w);
+  r.Record("esdu-fit-r-squared", fit.r_squared, "1", "derived");
+  const double k = r.Get("stiffness", StiffnessUnit(n), [&] { return fit.stiffness; });
+  r.Record("damping-scale-k_es/k_ln", k / c.hertz_stiffness,
+           n == 1.5 ? std::string("1") : "m^" + FormatValue(1.5 - n), "derived");
+  return HybridLaw{Hysteresis(r, c, k, n, LnFactor), w, fit.r_squared, c.hertz_stiffness};
+}
+
+NormalLaw Build(std::string_view name, Resolver& r, const Context& c) {
+  if (name == "linear-spring" || name == "kelvin-voigt" || name == "maxwell" ||
+      name == "standard-linear-solid")
+    return BuildLinearLaw(name, r, c);
+  if (name == "impact") return BuildImpactLaw(r, c);
+  if (name == "esdu-78035" || name == "johnson" || name == "dubowsky-freudenstein")
+    return BuildLineLaw(name, r, c);
+  if (name == "pereira") return BuildPereiraLaw(r, c);
+  if (name == "hybrid") return BuildHybridLaw(r, c);
+  return BuildHertzLaw(name, r, c);
+}
+
 }  // namespace
 
 // ---- public -------------------------------------------------------------------------------
-
-void ContactMaterials::Validate() const {
-  auto modulus = [](const char* key, double v) {
-    if (!(std::isfinite(v) && v > 0.0)) {
-      throw InputError(key, FormatValue(v) + " Pa", "must be finite and > 0");
-    }
-  };
-  auto poisson = [](const char* key, double v) {
-    if (!(std::isfinite(v) && v > -1.0 && v < 0.5)) {
-      throw InputError(key, FormatValue(v), "Poisson ratio must lie in (-1, 0.5)");
-    }
-  };
-  modulus("contact.pin_E", pin_youngs_modulus);
-  poisson("contact.pin_nu", pin_poisson_ratio);
-  modulus("contact.bush_E", bush_youngs_modulus);
-  poisson("contact.bush_nu", bush_poisson_ratio);
-  if (!(std::isfinite(restitution) && restitution > 0.0 && restitution <= 1.0)) {
-    throw InputError("contact.restitution", FormatValue(restitution),
-                     "coefficient of restitution must lie in (0, 1]");
-  }
-}
-
-double MaterialCompliance(double youngs_modulus, double poisson_ratio) {
-  return (1.0 - poisson_ratio * poisson_ratio) / youngs_modulus;
-}
-double EffectiveModulus(const ContactMaterials& m) {
-  return 1.0 / (MaterialCompliance(m.pin_youngs_modulus, m.pin_poisson_ratio) +
-                MaterialCompliance(m.bush_youngs_modulus, m.bush_poisson_ratio));
-}
-double PiCompliance(const ContactMaterials& m) {
-  return 1.0 / (std::numbers::pi * EffectiveModulus(m));
-}
-double InternalContactRadius(const ContactGeometry& g) {
-  return g.bush_radius * g.pin_radius / (g.bush_radius - g.pin_radius);
-}
-double HertzStiffness(const ContactMaterials& m, const ContactGeometry& g) {
-  return 4.0 / 3.0 * EffectiveModulus(m) * std::sqrt(InternalContactRadius(g));
-}
 
 const std::vector<std::string>& NormalLawNames() {
   static const std::vector<std::string> names = [] {
@@ -334,23 +584,21 @@ double ValidPenetrationLimit(const NormalLaw& law) {
   return kInf;
 }
 
-// Non-tensile Kelvin–Voigt oscillator: m ẍ = −(kx + dẋ) while kx + dẋ > 0, x(0) = 0, ẋ(0) = v₀.
-// ζ < 1: x = (v₀/ω_d) e^(−αt) sin ω_d t, α = ζω_n = ω_n cos β, ω_d = ω_n sin β. The force ∝ −ẍ
-// vanishes when tan ω_d t = 2αω_d/(α² − ω_d²) = tan 2β, first at ω_d t* = 2β, where
-// ẋ = −v₀ e^(−αt*): cₑ = exp(−2βζ/√(1−ζ²)), β = arccos ζ. ζ > 1: the same with sinh/cosh,
-// γt* = 2b, b = arccosh ζ, γ = ω_n sinh b: cₑ = exp(−2bζ/√(ζ²−1)). Both → e⁻² at ζ = 1.
-double KelvinVoigtRestitution(double zeta) {
-  FLEXROD_ASSERT(zeta >= 0.0);
-  if (zeta == 0.0) return 1.0;
-  if (std::abs(zeta - 1.0) < 1e-9) return std::exp(-2.0 * zeta);
-  if (zeta < 1.0) return std::exp(-2.0 * zeta * std::acos(zeta) / std::sqrt(1.0 - zeta * zeta));
-  return std::exp(-2.0 * zeta * std::acosh(zeta) / std::sqrt(zeta * zeta - 1.0));
-}
-
-double LinearOscillatorRestitution(double zeta) {
-  FLEXROD_ASSERT(zeta >= 0.0);
-  if (zeta >= 1.0) return 0.0;
-  return std::exp(-std::numbers::pi * zeta / std::sqrt(1.0 - zeta * zeta));
+ResolvedNormalLaw ResolveNormalLaw(std::string_view name, const ContactMaterials& materials,
+                                   const ContactGeometry& geometry, const ParameterMap& overrides) {
+  const LawSpec& spec = FindSpec(name);
+  materials.Validate();
+  geometry.Validate();
+  Resolver resolver(spec, overrides);
+  const Context context{materials,
+                        geometry,
+                        EffectiveModulus(materials),
+                        InternalContactRadius(geometry),
+                        HertzStiffness(materials, geometry),
+                        PiCompliance(materials)};
+  NormalLaw law = Build(name, resolver, context);
+  FLEXROD_ASSERT(NormalLawName(law) == name);
+  return {std::move(law), resolver.Take()};
 }
 
 }  // namespace flexrod::contact

@@ -18,8 +18,8 @@ cmake -DFLEXROD_SOURCE="$root" -DFLEXROD_OUTPUT="$dir/presets_data.cc" \
 sources=(fuzz/parsers_fuzzer.cc study/config.cc study/toml_value.cc study/config_schema.cc
          common/units.cc study/sweep_matrix.cc study/presets.cc study/signals_spectrum.cc
          study/signals.cc study/signals_extrema.cc study/timeseries.cc common/files.cc
-         contact/normal_law.cc contact/normal_law_resolve.cc contact/friction_law.cc
-         contact/impact.cc contact/geometry.cc)
+         contact/normal_law.cc contact/normal_law_calibration.cc contact/materials.cc
+         contact/friction_law.cc contact/impact.cc contact/geometry.cc)
 echo "fuzz: building $dir/parsers_fuzzer (clang++ -fsanitize=fuzzer,address,undefined)"
 (cd "$root" && clang++ -std=c++20 -O1 -g -DNDEBUG -fno-omit-frame-pointer \
   -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
