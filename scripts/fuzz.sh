@@ -16,8 +16,9 @@ mkdir -p "$dir/corpus"
 cmake -DFLEXROD_SOURCE="$root" -DFLEXROD_OUTPUT="$dir/presets_data.cc" \
   -P "$root/cmake/EmbedPresets.cmake"
 sources=(fuzz/parsers_fuzzer.cc study/config.cc study/toml_value.cc study/config_schema.cc
-         common/units.cc study/sweep_matrix.cc study/presets.cc study/signals_spectrum.cc
-         study/signals.cc study/signals_extrema.cc study/timeseries.cc common/files.cc
+         common/units.cc study/sweep_matrix.cc study/sweep_identity.cc study/presets.cc
+         study/signals_spectrum.cc study/signals.cc study/signals_extrema.cc study/timeseries.cc
+         common/files.cc
          contact/normal_law.cc contact/normal_law_calibration.cc contact/materials.cc
          contact/friction_law.cc contact/impact.cc contact/geometry.cc)
 echo "fuzz: building $dir/parsers_fuzzer (clang++ -fsanitize=fuzzer,address,undefined)"
