@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "contact/golden_section.h"
 
 namespace flexrod::contact {
 namespace {
@@ -242,27 +243,11 @@ ImpactResult SimulateImpact(const NormalLaw& law, double mass, double approach_s
   result.peak_force = result.loop[imax].force;
   if (imax > 0 && imax + 1 < snaps.size()) {
     const Snapshot& base = snaps[imax - 1];
-    double a = base.t, b = snaps[imax + 1].t;
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    auto f = [&](double t) { return integ.Force(integ.AdvanceTo(base, t)); };
-    double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    double f1 = f(x1), f2 = f(x2);
-    for (int i = 0; i < 60 && b - a > 1e-15 * b; ++i) {
-      if (f1 > f2) {
-        b = x2;
-        x2 = x1;
-        f2 = f1;
-        x1 = b - g * (b - a);
-        f1 = f(x1);
-      } else {
-        a = x1;
-        x1 = x2;
-        f1 = f2;
-        x2 = a + g * (b - a);
-        f2 = f(x2);
-      }
-    }
-    result.peak_force = std::max({result.peak_force, f1, f2});
+    // The maximum of the force: the minimum of its negative (negation is exact).
+    auto minus_force = [&](double t) { return -integ.Force(integ.AdvanceTo(base, t)); };
+    const GoldenBracket peak =
+        GoldenSectionMinimum(minus_force, base.t, snaps[imax + 1].t, 60, 1e-15);
+    result.peak_force = std::max({result.peak_force, -peak.f1, -peak.f2});
   }
   return result;
 }

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "contact/golden_section.h"
 #include "contact/impact.h"
 
 namespace flexrod::contact::normal_law_calibration {
@@ -116,26 +117,8 @@ double SlsDamping(double k1, double k2, double mass, double restitution) {
   auto e_of = [&](double log_eta) {
     return SlsRestitution(k1, k2, scale * std::exp(log_eta), mass);
   };
-  double a = std::log(1e-3), b = std::log(1e3);
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = b - g * (b - a), x2 = a + g * (b - a);
-  double f1 = e_of(x1), f2 = e_of(x2);
-  for (int i = 0; i < 40; ++i) {
-    if (f1 < f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - g * (b - a);
-      f1 = e_of(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + g * (b - a);
-      f2 = e_of(x2);
-    }
-  }
-  const double log_eta_min = 0.5 * (a + b);
+  const GoldenBracket min = GoldenSectionMinimum(e_of, std::log(1e-3), std::log(1e3), 40, 0.0);
+  const double log_eta_min = 0.5 * (min.a + min.b);
   const double e_min = e_of(log_eta_min);
   if (restitution < e_min) {
     throw InputError("restitution", FormatValue(restitution),
