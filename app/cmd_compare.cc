@@ -10,7 +10,7 @@
 #include "app/plotting.h"
 #include "common/error.h"
 #include "common/files.h"
-#include "study/sweep_compare.h"
+#include "sweep/sweep_compare.h"
 
 namespace flexrod::app {
 namespace {

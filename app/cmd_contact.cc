@@ -1,5 +1,5 @@
 // `flexrod contact`: one impact of a mass against a rigid wall through a chosen normal contact
-// law (study/contact_impact.h, contact/impact.h), with the law's parameters derived from pin and
+// law (run/contact_impact.h, contact/impact.h), with the law's parameters derived from pin and
 // bush materials and geometry unless overridden. Prints and optionally writes (JSON) the achieved
 // restitution, peak force, peak penetration and contact duration with the resolved parameters;
 // --plot draws the force–penetration loop with app/plot_contact.py (python3 + matplotlib, Agg
@@ -19,7 +19,7 @@
 #include "common/error.h"
 #include "common/files.h"
 #include "contact/impact.h"
-#include "study/contact_impact.h"
+#include "run/contact_impact.h"
 
 namespace flexrod::app {
 namespace {

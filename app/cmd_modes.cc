@@ -7,8 +7,8 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "common/files.h"
-#include "study/config.h"
-#include "study/modal_analysis.h"
+#include "input/config.h"
+#include "mechanisms/modal_analysis.h"
 
 namespace flexrod::app {
 namespace {

@@ -12,9 +12,9 @@
 #include "app/commands.h"
 #include "app/plotting.h"
 #include "common/error.h"
-#include "study/presets.h"
-#include "study/run.h"
-#include "study/run_files.h"
+#include "input/presets.h"
+#include "io/run_files.h"
+#include "run/run.h"
 
 namespace flexrod::app {
 namespace {

@@ -16,11 +16,11 @@
 #include "common/error.h"
 #include "common/files.h"
 #include "contact/normal_law.h"
-#include "study/mechanism_model.h"
-#include "study/presets.h"
-#include "study/reduction_study.h"
-#include "study/run.h"
-#include "study/run_files.h"
+#include "input/presets.h"
+#include "io/run_files.h"
+#include "mechanisms/mechanism_model.h"
+#include "run/reduction_study.h"
+#include "run/run.h"
 
 namespace flexrod::app {
 namespace {
@@ -75,7 +75,7 @@ using TwinDirs = std::map<const study::TimeSeries*, std::string>;
 /// peak |a| [m/s^2]): 1326 / 1200 at the run default 1e-6/1e-8 (one revolution's outlier,
 /// above the 1256 of 1.0 mm: Fig. 39's clearance order reversed), 1191.3 / 1190.3 at
 /// 1e-8/1e-10, 1191.3 / 1190.4 at 1e-9/1e-11. 1.0 mm: 1256 / 1254, 1252.5 / 1249.5,
-/// 1252.4 / 1249.7. The cost is 1.4 times the steps (tests/study/clearance_trends_slowtest.cc
+/// 1252.4 / 1249.7. The cost is 1.4 times the steps (tests/run/clearance_trends_slowtest.cc
 /// runs at these too).
 const std::vector<std::string> kStudyTolerances = {"sim.rel_tol=1e-8", "sim.abs_tol=1e-10"};
 
@@ -124,7 +124,7 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
           Num(wall)};
 }
 
-// ---- the modal reduction study (variants and figures: study/reduction_study.h) ------------
+// ---- the modal reduction study (variants and figures: run/reduction_study.h) ------------
 
 int RunReductionStudy(const StudyOptions& opt) {
   Require(opt.within > 0.0 && std::isfinite(opt.within), "--within", opt.within,

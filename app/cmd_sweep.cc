@@ -14,7 +14,7 @@
 #include "app/plotting.h"
 #include "app/sweep_app.h"
 #include "common/error.h"
-#include "study/sweep_compare.h"
+#include "sweep/sweep_compare.h"
 
 namespace flexrod::app {
 namespace {

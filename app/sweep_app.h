@@ -2,7 +2,7 @@
 // request (flags), the progress display (a bar with runs done, failures and ETA on a
 // terminal, plain log lines otherwise) and the work after the store is written (summary CSV,
 // amplification plot). The local driver is in app/cmd_sweep.cc, the MPI driver in
-// app/sweep_mpi.cc. What does not live here: the sweep itself (study/sweep.h).
+// app/sweep_mpi.cc. What does not live here: the sweep itself (sweep/sweep.h).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "study/sweep.h"
+#include "sweep/sweep.h"
 
 namespace flexrod::app {
 

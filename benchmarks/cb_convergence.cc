@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "study/presets.h"
-#include "study/run.h"
+#include "input/presets.h"
+#include "run/run.h"
 
 namespace {
 

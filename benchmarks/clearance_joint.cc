@@ -16,10 +16,10 @@
 
 #include "contact/friction_law.h"
 #include "contact/normal_law.h"
+#include "input/config.h"
+#include "input/presets.h"
+#include "mechanisms/mechanism_model.h"
 #include "multibody/simulate.h"
-#include "study/config.h"
-#include "study/mechanism_model.h"
-#include "study/presets.h"
 
 namespace {
 

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "study/config.h"
-#include "study/presets.h"
-#include "study/run.h"
+#include "input/config.h"
+#include "input/presets.h"
+#include "run/run.h"
 
 namespace {
 

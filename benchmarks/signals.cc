@@ -1,8 +1,8 @@
-// Benchmarks of the signal analysis (study/signals.h) on a rig-sized record: 3 s at 100 kHz
+// Benchmarks of the signal analysis (signals/signals.h) on a rig-sized record: 3 s at 100 kHz
 // (300 000 samples, RIG.md Table 2) of a slider-crank-like acceleration with impact ringing.
-// Measures only; correctness lives in tests/study/signals_*_test.cc.
+// Measures only; correctness lives in tests/signals/signals_*_test.cc.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "study/signals.h"
+#include "signals/signals.h"
 
 #include <benchmark/benchmark.h>
 

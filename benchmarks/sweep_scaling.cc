@@ -18,7 +18,7 @@
 #include <string>
 #include <thread>
 
-#include "study/sweep.h"
+#include "sweep/sweep.h"
 
 namespace {
 

@@ -1,8 +1,8 @@
 # Generates a C++ source holding every examples/*.toml preset as a string, so the presets are
-# built into the binary (study/presets.h). Run at configure time; re-run when a preset changes.
+# built into the binary (input/presets.h). Run at configure time; re-run when a preset changes.
 file(GLOB _presets "${FLEXROD_SOURCE}/examples/*.toml")
 set(_out "// Generated from examples/*.toml by cmake/EmbedPresets.cmake. Do not edit.\n")
-string(APPEND _out "#include \"study/presets.h\"\nnamespace flexrod {\nconst std::vector<Preset>& Presets() {\n")
+string(APPEND _out "#include \"input/presets.h\"\nnamespace flexrod {\nconst std::vector<Preset>& Presets() {\n")
 string(APPEND _out "  static const std::vector<Preset> presets = {\n")
 foreach(_p IN LISTS _presets)
   get_filename_component(_name "${_p}" NAME_WE)

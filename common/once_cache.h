@@ -1,6 +1,6 @@
 // common/once_cache.h — values computed once per key and shared between callers (threads of
-// a sweep, runs of a study): the reduced rods of a sweep (study/sweep.h) and the ideal-joint
-// twins of clearance runs (study/run.h). What does not live here: what a key means.
+// a sweep, runs of a study): the reduced rods of a sweep (sweep/sweep.h) and the ideal-joint
+// twins of clearance runs (run/run.h). What does not live here: what a key means.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 

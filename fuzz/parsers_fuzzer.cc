@@ -14,8 +14,8 @@
 #include <string>
 
 #include "common/error.h"
-#include "study/config.h"
-#include "study/sweep_matrix.h"
+#include "input/config.h"
+#include "sweep/sweep_matrix.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

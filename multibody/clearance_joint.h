@@ -7,7 +7,8 @@
 // rate) that closes the run's energy balance. CalcClearanceResponse evaluates the joint at an
 // output sample or an integrator step, for the report channels and the impact log. What does not
 // live here: the laws and the geometry (contact/), the resolution of laws from input keys
-// (study/joint_config.h), the impact log (study/impact_log.h, built from the located events).
+// (mechanisms/joint_config.h), the impact log (mechanisms/impact_log.h, built from the located
+// events).
 //
 // Markers: i = the bush centre B (on the rod's small-end clamp: node marker of a flexible rod or
 // a rigid-body marker), j = the pin (journal) centre P (on the slider). Both marker points are

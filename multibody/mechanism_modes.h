@@ -2,7 +2,8 @@
 // about a configuration at rest (selected coordinates held), and the elastic damping matrix of
 // one flexible body that gives those modes prescribed damping ratios. What does not live
 // here: the body's own (clamped-frame) modes and the damping kinds built from them
-// (DampingSpec, multibody/mechanism.h); choosing the ratios from user input (study/).
+// (DampingSpec, multibody/mechanism.h); choosing the ratios from user input
+// (mechanisms/mechanism_damping.h).
 //
 // Linearisation (at p with v = 0, λ = μ = 0, element states z = 0): M δp̈ + K δp = 0 on the
 // tangent space of the constraints, G δp = 0 and δp_i = 0 for each held coordinate i, with

@@ -26,16 +26,16 @@
 
 #include "common/error.h"
 #include "common/units.h"
-#include "study/config.h"
-#include "study/contact_impact.h"
-#include "study/impact_log.h"
-#include "study/modal_analysis.h"
-#include "study/presets.h"
-#include "study/reduction_study.h"
-#include "study/run.h"
-#include "study/run_files.h"
-#include "study/sweep.h"
-#include "study/sweep_store.h"
+#include "input/config.h"
+#include "input/presets.h"
+#include "io/run_files.h"
+#include "mechanisms/impact_log.h"
+#include "mechanisms/modal_analysis.h"
+#include "run/contact_impact.h"
+#include "run/reduction_study.h"
+#include "run/run.h"
+#include "sweep/sweep.h"
+#include "sweep/sweep_store.h"
 
 namespace py = pybind11;
 

@@ -4,14 +4,18 @@
 
 Data flows upwards; a folder may include only itself and the layers below it:
 
-  common                    (nothing else)
-  fem, contact              common
-  multibody                 common, fem, contact
-  study: signal analysis    common and the signal analysis itself
-         (study/signals*, study/timeseries*: time series only, never the solver)
-  study: the rest           common, fem, contact, multibody, study
-  app                       everything above but python/, tests/, benchmarks/
-  python                    common, fem, contact, multibody, study (never app/)
+  common       (nothing else)
+  fem          common
+  contact      common
+  multibody    common, fem, contact
+  signals      common                      (time series only, never the solver)
+  input        common, contact             (the keys, presets and typed options)
+  mechanisms   common, fem, contact, multibody, signals, input
+  run          ... and mechanisms
+  sweep        ... and run
+  io           ... and sweep               (the files of a run)
+  app          every library
+  python       every library, never app/
 
 A header that says "Internal to <folder>/" or "Not for use outside <folder>/" in its first
 lines may be included only from that folder.
@@ -26,17 +30,23 @@ import re
 import sys
 import tempfile
 
-LIBRARIES = ("common", "fem", "contact", "multibody", "study")
+LIBRARIES = ("common", "fem", "contact", "multibody", "signals", "input", "mechanisms", "run",
+             "sweep", "io")
+_BELOW_MECHANISMS = {"common", "fem", "contact", "multibody", "signals", "input"}
 ALLOWED = {
     "common": {"common"},
     "fem": {"common", "fem"},
     "contact": {"common", "contact"},
     "multibody": {"common", "fem", "contact", "multibody"},
-    "study": {"common", "fem", "contact", "multibody", "study"},
+    "signals": {"common", "signals"},
+    "input": {"common", "contact", "input"},
+    "mechanisms": _BELOW_MECHANISMS | {"mechanisms"},
+    "run": _BELOW_MECHANISMS | {"mechanisms", "run"},
+    "sweep": _BELOW_MECHANISMS | {"mechanisms", "run", "sweep"},
+    "io": _BELOW_MECHANISMS | {"mechanisms", "run", "sweep", "io"},
     "app": set(LIBRARIES) | {"app"},
     "python": set(LIBRARIES) | {"python"},
 }
-SIGNALS = re.compile(r"^study/(signals[a-z_]*|timeseries)\.(h|cc)$")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 INTERNAL = re.compile(r"(?:Internal to|Not for use outside) ([a-z_]+)/")
 
@@ -61,7 +71,6 @@ def violations(root):
             if path.suffix not in (".h", ".cc"):
                 continue
             rel = path.relative_to(root).as_posix()
-            signals = SIGNALS.match(rel) is not None
             for target in INCLUDE.findall(path.read_text(encoding="utf-8", errors="replace")):
                 top = target.split("/")[0]
                 if "/" not in target:
@@ -70,15 +79,10 @@ def violations(root):
                     found.append("%s includes %s: that header is internal to %s/" % (
                         rel, target, internal[target]))
                     continue
-                if signals:
-                    ok = top == "common" or SIGNALS.match(target) is not None
-                else:
-                    ok = top in allowed
+                ok = top in allowed
                 if not ok:
-                    found.append("%s includes %s: %s may include only %s" % (
-                        rel, target, "study's signal analysis" if signals else folder + "/",
-                        "common/ and study/signals*, study/timeseries*" if signals
-                        else ", ".join(sorted(allowed))))
+                        found.append("%s includes %s: %s/ may include only %s" % (
+                        rel, target, folder, ", ".join(sorted(allowed))))
     return found
 
 
@@ -90,22 +94,26 @@ def selftest():
         files = {
             "common/a.h": '#include "common/b.h"\n',
             "fem/beam.cc": '#include "common/a.h"\n#include "multibody/dae.h"\n',
-            "study/signals.cc": '#include "study/timeseries.h"\n#include "multibody/simulate.h"\n',
-            "study/run.cc": '#include "multibody/simulate.h"\n#include "app/commands.h"\n',
-            "python/module.cc": '#include "study/run.h"\n#include "app/cli.h"\n',
+            "signals/signals.cc": '#include "signals/timeseries.h"\n#include "multibody/simulate.h"\n',
+            "run/run.cc": '#include "multibody/simulate.h"\n#include "app/commands.h"\n',
+            "python/module.cc": '#include "run/run.h"\n#include "app/cli.h"\n',
             "multibody/kernels.h": "// multibody/kernels.h — Internal to multibody/.\n",
             "multibody/dae.cc": '#include "multibody/kernels.h"\n',
-            "study/run_setup.cc": '#include "multibody/dae.h"\n#include "multibody/kernels.h"\n',
+            "run/run_setup.cc": '#include "multibody/dae.h"\n#include "multibody/kernels.h"\n',
+            "sweep/sweep.cc": '#include "run/run.h"\n#include "io/run_files.h"\n',
+            "input/config.cc": '#include "contact/normal_law.h"\n#include "mechanisms/recipe.h"\n',
         }
         for name, text in files.items():
             (root / name).parent.mkdir(parents=True, exist_ok=True)
             (root / name).write_text(text)
         bad = violations(root)
         expected = ["fem/beam.cc includes multibody/dae.h",
-                    "study/signals.cc includes multibody/simulate.h",
-                    "study/run.cc includes app/commands.h",
+                    "signals/signals.cc includes multibody/simulate.h",
+                    "run/run.cc includes app/commands.h",
                     "python/module.cc includes app/cli.h",
-                    "study/run_setup.cc includes multibody/kernels.h"]
+                    "run/run_setup.cc includes multibody/kernels.h",
+                    "sweep/sweep.cc includes io/run_files.h",
+                    "input/config.cc includes mechanisms/recipe.h"]
         for e in expected:
             if not any(v.startswith(e) for v in bad):
                 print("selftest: not caught: " + e)

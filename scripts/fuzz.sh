@@ -15,12 +15,8 @@ dir="${FLEXROD_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 mkdir -p "$dir/corpus"
 cmake -DFLEXROD_SOURCE="$root" -DFLEXROD_OUTPUT="$dir/presets_data.cc" \
   -P "$root/cmake/EmbedPresets.cmake"
-sources=(fuzz/parsers_fuzzer.cc study/config.cc study/toml_value.cc study/config_schema.cc
-         common/units.cc study/sweep_matrix.cc study/sweep_identity.cc study/presets.cc
-         study/signals_spectrum.cc study/signals.cc study/signals_extrema.cc study/timeseries.cc
-         common/files.cc
-         contact/normal_law.cc contact/normal_law_calibration.cc contact/materials.cc
-         contact/friction_law.cc contact/impact.cc contact/geometry.cc)
+# The parsers' sources, derived from the fuzzer's includes (a file split cannot break the list).
+mapfile -t sources < <(/usr/bin/python3 "$root/scripts/fuzz_sources.py" "$root")
 echo "fuzz: building $dir/parsers_fuzzer (clang++ -fsanitize=fuzzer,address,undefined)"
 (cd "$root" && clang++ -std=c++20 -O1 -g -DNDEBUG -fno-omit-frame-pointer \
   -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \

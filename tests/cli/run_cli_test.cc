@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "common/hdf5.h"
-#include "study/run_files.h"
-#include "study/sweep_store.h"
+#include "io/run_files.h"
+#include "sweep/sweep_store.h"
 
 namespace {
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <thread>
 
-#include "study/sweep_store.h"
+#include "sweep/sweep_store.h"
 
 namespace {
 

@@ -1,0 +1,211 @@
+// mechanisms/impact_log.cc — the impact log built from the located contact events (see
+// impact_log.h). SPDX-License-Identifier: GPL-3.0-or-later
+#include "mechanisms/impact_log.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "common/error.h"
+#include "common/files.h"
+#include "common/units.h"
+#include "signals/signals.h"
+
+namespace flexrod::study {
+
+ContactPoint MakeContactPoint(double time, double crank_angle,
+                              const multibody::ClearanceResponse& r) {
+  ContactPoint p;
+  p.time = time;
+  p.crank_angle = crank_angle;
+  p.contact = r.contact_flag;
+  p.onsets = r.onsets;
+  p.onset_time = r.onset_time;
+  p.penetration = r.kinematics.penetration;
+  p.penetration_rate = r.kinematics.penetration_rate;
+  p.normal_force = r.normal_force;
+  p.dissipation = r.dissipation();
+  return p;
+}
+
+void ImpactLogger::Observe(const ContactPoint& p) {
+  if (!started_ || p.onsets != onsets_seen_) {
+    // The first point, or the point of a located onset (the joint's count moved).
+    if (is_open_) Close(last_.time, false);  // its separation was not offered
+    if (p.contact) {
+      open_ = Impact{};
+      open_.complete = started_;
+      open_.time = started_ ? p.onset_time : p.time;
+      open_.crank_angle = WrapToTwoPi(p.crank_angle);
+      open_.approach_velocity = p.penetration_rate;
+      // Zero at the onset's own point; the onset's share if only later points are offered.
+      open_.dissipated_energy = 0.5 * p.dissipation * (p.time - open_.time);
+      is_open_ = true;
+    }
+    started_ = true;
+    onsets_seen_ = p.onsets;
+  } else if (is_open_) {
+    open_.dissipated_energy += 0.5 * (last_.dissipation + p.dissipation) * (p.time - last_.time);
+  }
+  if (is_open_) {
+    if (p.normal_force > open_.peak_force) {
+      open_.peak_force = p.normal_force;
+      open_.time_of_peak_force = p.time;
+    }
+    open_.peak_penetration = std::max(open_.peak_penetration, p.penetration);
+    if (!p.contact) Close(p.time, open_.complete);  // the located separation
+  }
+  last_ = p;
+}
+
+void ImpactLogger::ObservePeak(double time, double normal_force, double penetration) {
+  if (!is_open_ || time < open_.time) return;
+  if (normal_force > open_.peak_force) {
+    open_.peak_force = normal_force;
+    open_.time_of_peak_force = time;
+  }
+  open_.peak_penetration = std::max(open_.peak_penetration, penetration);
+}
+
+LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b) {
+  const double width = b - a, d = 1e-4 * width;
+  const double fa = f(a), fb = f(b), m = 0.5 * (a + b), fm = f(m);
+  // A maximum lies inside if f rises from a and falls into b (one-sided differences over 1e-4
+  // of the step), or if the midpoint beats both ends.
+  const bool rises = f(a + d) > fa, falls = f(b - d) > fb;
+  if (!(rises && falls) && !(fm > std::max(fa, fb))) {
+    return {a, -std::numeric_limits<double>::infinity()};
+  }
+  LocatedMaximum best{m, fm};
+  double lo = a, hi = b;
+  // Golden-section search over the step (f is unimodal there: a peak of a smooth pulse).
+  const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = f(x1), f2 = f(x2);
+  // To 1e-9 of the step, or the resolution of t itself (a step can be a few ulp of t long).
+  const double resolution =
+      std::max(1e-9 * width, 8.0 * std::numeric_limits<double>::epsilon() * std::abs(b));
+  for (int it = 0; it < 64 && hi - lo > resolution; ++it) {
+    if (f1 < f2) {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + r * (hi - lo);
+      f2 = f(x2);
+    } else {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - r * (hi - lo);
+      f1 = f(x1);
+    }
+  }
+  if (f1 > best.value) best = {x1, f1};
+  if (f2 > best.value) best = {x2, f2};
+  return best;
+}
+
+void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
+                       ImpactLogger* log) {
+  if (!log->in_impact()) return;
+  // Both searches test the same five points (ends, midpoint, one-sided differences): the
+  // second reads the first's responses instead of evaluating the joint again.
+  std::array<std::pair<double, multibody::ClearanceResponse>, 5> seen;
+  std::size_t num_seen = 0;
+  auto response = [&](double t) {
+    for (std::size_t i = 0; i < num_seen; ++i) {
+      if (seen[i].first == t) return seen[i].second;
+    }
+    const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(step.At(t), joint);
+    if (num_seen < seen.size()) seen[num_seen++] = {t, r};
+    return r;
+  };
+  const LocatedMaximum force = LocateInteriorMaximum(
+      [&](double t) { return response(t).normal_force; }, step.t_begin(), step.t_end());
+  const LocatedMaximum depth = LocateInteriorMaximum(
+      [&](double t) { return response(t).kinematics.penetration; }, step.t_begin(), step.t_end());
+  if (force.value > 0.0) log->ObservePeak(force.t, force.value, 0.0);
+  if (depth.value > 0.0) log->ObservePeak(depth.t, 0.0, depth.value);
+}
+
+void ImpactLogger::Close(double t, bool complete) {
+  open_.duration = t - open_.time;
+  open_.complete = complete;
+  log_.push_back(open_);
+  is_open_ = false;
+}
+
+std::vector<Impact> ImpactLogger::Finish() {
+  if (is_open_) Close(last_.time, false);
+  return std::move(log_);
+}
+
+ImpactStatistics CalcImpactStatistics(const std::vector<Impact>& impacts) {
+  ImpactStatistics s;
+  std::vector<double> peaks;
+  double duration = 0.0;
+  for (const Impact& im : impacts) {
+    if (!im.complete) {
+      ++s.incomplete;
+      continue;
+    }
+    ++s.count;
+    peaks.push_back(im.peak_force);
+    s.max_peak_force = std::max(s.max_peak_force, im.peak_force);
+    s.max_approach_velocity = std::max(s.max_approach_velocity, im.approach_velocity);
+    s.max_peak_penetration = std::max(s.max_peak_penetration, im.peak_penetration);
+    duration += im.duration;
+    s.total_dissipated_energy += im.dissipated_energy;
+  }
+  if (s.count > 0) {
+    s.median_peak_force = Percentile(peaks, 50.0);
+    s.mean_duration = duration / static_cast<double>(s.count);
+  }
+  return s;
+}
+
+std::vector<Channel> ImpactColumns(const std::vector<Impact>& impacts) {
+  std::vector<Channel> c = {{"time", "s", {}},
+                            {"crank_angle", "rad", {}},
+                            {"approach_velocity", "m/s", {}},
+                            {"peak_force", "N", {}},
+                            {"time_of_peak_force", "s", {}},
+                            {"duration", "s", {}},
+                            {"peak_penetration", "m", {}},
+                            {"dissipated_energy", "J", {}},
+                            {"complete", "1", {}}};
+  for (const Impact& im : impacts) {
+    const double row[] = {im.time,
+                          im.crank_angle,
+                          im.approach_velocity,
+                          im.peak_force,
+                          im.time_of_peak_force,
+                          im.duration,
+                          im.peak_penetration,
+                          im.dissipated_energy,
+                          im.complete ? 1.0 : 0.0};
+    for (std::size_t k = 0; k < c.size(); ++k) c[k].values.push_back(row[k]);
+  }
+  return c;
+}
+
+void WriteImpactCsv(const std::vector<Impact>& impacts, const std::string& path) {
+  const std::vector<Channel> columns = ImpactColumns(impacts);
+  std::string text;
+  for (const Channel& c : columns) text += (text.empty() ? "" : ",") + c.name + " [" + c.unit + "]";
+  text += "\n";
+  char cell[32];
+  for (std::size_t i = 0; i < impacts.size(); ++i) {
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      std::snprintf(cell, sizeof cell, k == 0 ? "%.17g" : ",%.17g", columns[k].values[i]);
+      text += cell;
+    }
+    text += "\n";
+  }
+  WriteFileAtomic(path, text);
+}
+
+}  // namespace flexrod::study

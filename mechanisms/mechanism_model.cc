@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "mechanisms/mechanism_model.h"
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "common/error.h"
+#include "mechanisms/joint_config.h"
+#include "mechanisms/mechanism_damping.h"
+#include "mechanisms/mechanism_recipe.h"
+#include "mechanisms/rod_config.h"
+#include "multibody/mechanism_modes.h"
+
+namespace flexrod {
+namespace {
+
+using multibody::BodyId;
+using multibody::MarkerId;
+
+multibody::DampingSpec DampingFromConfig(const Config& cfg) {
+  const std::string type = cfg.Text("damping.type");
+  multibody::DampingSpec d;
+  if (type == "band") {
+    d = multibody::DampingSpec::FrequencyBand();
+  } else if (type == "ratio") {
+    const double zeta = cfg.Quantity("damping.ratio");
+    d = zeta > 0.0 ? multibody::DampingSpec::ModalRatio({zeta}) : multibody::DampingSpec::None();
+  } else {
+    d = multibody::DampingSpec::Rayleigh(cfg.Quantity("damping.alpha"),
+                                         cfg.Quantity("damping.beta"));
+  }
+  return d;
+}
+
+}  // namespace
+
+Mat2 Rotation(double angle) {
+  Mat2 A;
+  A << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  return A;
+}
+
+void PlaceRod(const MechanismModel& mm, const Vec2& R, double theta, Vec* p) {
+  const multibody::Mechanism& m = mm.mechanism;
+  (*p)[m.coordinate(mm.conrod, multibody::kX)] = R.x();
+  (*p)[m.coordinate(mm.conrod, multibody::kY)] = R.y();
+  (*p)[m.coordinate(mm.conrod, multibody::kTheta)] = theta;
+  if (mm.exact) multibody::SetExactRodPose(m, *mm.exact, R, theta, p);
+  if (mm.small_clamp.index >= 0) {
+    const Vec2 C = R + Rotation(theta) * Vec2(mm.rod_length, 0.0);
+    (*p)[m.coordinate(mm.small_clamp, multibody::kX)] = C.x();
+    (*p)[m.coordinate(mm.small_clamp, multibody::kY)] = C.y();
+    (*p)[m.coordinate(mm.small_clamp, multibody::kTheta)] = theta;
+  }
+}
+
+/// The rod of the input with its clamps as rigid attachments (flexible and exact rods); the
+/// small-end clamp only if `small_clamp`.
+static fem::RodSpec RodWithClamps(const Config& cfg, bool small_clamp) {
+  fem::RodSpec rod = RodFromConfig(cfg);
+  const double big_mass = cfg.Quantity("clamp.big_mass");
+  const double small_mass = cfg.Quantity("clamp.small_mass");
+  if (big_mass > 0.0 || cfg.Quantity("clamp.big_inertia") > 0.0) {
+    rod.attachments.push_back(
+        {"big-end clamp", 0, big_mass, cfg.Quantity("clamp.big_inertia"), Vec2::Zero()});
+  }
+  if (small_clamp && (small_mass > 0.0 || cfg.Quantity("clamp.small_inertia") > 0.0)) {
+    rod.attachments.push_back(
+        {"small-end clamp", rod.num_elements, small_mass, cfg.Quantity("clamp.small_inertia"),
+         Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
+  }
+  rod.Validate();
+  return rod;
+}
+
+bool SmallClampIsABody(const Config& cfg) {
+  return cfg.Text("rod.type") == "flexible" && cfg.Quantity("clamp.small_mass") > 0.0;
+}
+
+std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
+  if (cfg.Text("rod.type") != "flexible") return nullptr;
+  const fem::RodSpec rod = RodWithClamps(cfg, !SmallClampIsABody(cfg));
+  const fem::ReductionSpec spec = MechanismReductionFromConfig(cfg, rod);
+  return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
+}
+
+/// One build of the mechanism; `rod_damping` (may be null: damping.* as is) is the flexible
+/// rod's damping. BuildMechanism below decides which.
+static MechanismModel BuildMechanismPass(const Config& cfg,
+                                         std::shared_ptr<const fem::ReducedRod> rod,
+                                         bool ideal_joint,
+                                         const multibody::DampingSpec* rod_damping) {
+  MechanismModel out;
+  multibody::MechanismBuilder b;
+  const bool flexible = cfg.Text("rod.type") == "flexible";
+  if (flexible && !rod) rod = BuildReducedRod(cfg);
+  out.rod = rod;
+  const double length = cfg.Quantity("rod.length");
+  const Vec2 big_offset(cfg.Quantity("rod.big_end_x"), cfg.Quantity("rod.big_end_y"));
+  const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
+  const bool exact = cfg.Text("rod.type") == "exact";
+  const int last_node = flexible ? rod->rod.num_nodes() - 1 : 0;
+  // The joint points in the rod frame (undeformed).
+  const Vec2 small_point = Vec2(length, 0.0) + small_offset;
+  out.rod_length = length;
+  out.big_end_point = big_offset;
+  out.small_end_point = small_point;
+  out.effective_length = (small_point - big_offset).norm();
+
+  // ---- the connecting rod ----
+  if (flexible) {
+    multibody::FlexibleBodySpec fs;
+    fs.name = "rod";
+    fs.rod = rod;
+    fs.damping = rod_damping != nullptr ? *rod_damping : DampingFromConfig(cfg);
+    fs.geometric_stiffening = cfg.Bool("rod.geometric_stiffening");
+    out.conrod = b.AddFlexibleBody(fs);
+    out.big_end = b.AddNodeMarker(out.conrod, "big-end", 0, big_offset);
+    if (SmallClampIsABody(cfg)) {
+      // The small-end clamp is a rigid body welded to the last node: the bush, 17 mm off the
+      // node on the rig, then turns with the node's rotation exactly. A node marker's offset
+      // turns with it only to first order (S_u + J d S_φ), which misplaced the bush by
+      // ½ |d| φ² and dropped the offset's second-order stiffness: 8 % on the flexible rig's
+      // peak slider acceleration against the exact rod (tests/run/exact_rod_slowtest.cc).
+      out.small_clamp = b.AddRigidBody(
+          {"small-end clamp", cfg.Quantity("clamp.small_mass"), cfg.Quantity("clamp.small_inertia"),
+           Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
+      b.AddWeld("small-end clamp", b.AddNodeMarker(out.conrod, "small-end node", last_node),
+                b.AddBodyMarker(out.small_clamp, "small-end clamp origin", Vec2::Zero()));
+      out.small_end = b.AddBodyMarker(out.small_clamp, "small-end", small_offset);
+    } else {
+      out.small_end = b.AddNodeMarker(out.conrod, "small-end", last_node, small_offset);
+    }
+  } else if (exact) {
+    // The geometrically exact rod (multibody/exact_rod.h): Kelvin–Voigt damping β from the
+    // Rayleigh stiffness factor (BuildMechanism refers ratio and band damping to it).
+    const multibody::DampingSpec damping =
+        rod_damping != nullptr ? *rod_damping : DampingFromConfig(cfg);
+    if (damping.kind == multibody::DampingKind::kRayleigh && damping.rayleigh_alpha != 0.0) {
+      throw InputError("damping.alpha", FormatValue(damping.rayleigh_alpha) + " 1/s",
+                       "must be 0 with rod.type = exact: mass-proportional damping would damp the "
+                       "rod's rigid motion");
+    }
+    multibody::ExactRodSpec es;
+    es.name = "rod";
+    es.rod = RodWithClamps(cfg, true);
+    es.beta = damping.kind == multibody::DampingKind::kRayleigh ? damping.rayleigh_beta : 0.0;
+    out.exact = std::make_shared<const multibody::ExactRod>(multibody::AddExactRod(&b, es));
+    out.conrod = out.exact->nodes.front();
+    out.big_end = b.AddBodyMarker(out.exact->nodes.front(), "big-end", big_offset);
+    out.small_end = b.AddBodyMarker(out.exact->nodes.back(), "small-end", small_offset);
+  } else {
+    double mass = cfg.Quantity("rod.rigid_mass");
+    double inertia = cfg.Quantity("rod.rigid_inertia");
+    if (mass == 0.0) {
+      const fem::RodSpec spec = RodFromConfig(cfg);
+      mass = spec.material.density * spec.section.area() * length;
+    }
+    if (inertia == 0.0) inertia = mass * length * length / 12.0;
+    RequirePositive("rod.rigid_mass", mass);
+    out.conrod = b.AddRigidBody({"rod", mass, inertia, Vec2(0.5 * length, 0.0)});
+    out.big_end = b.AddBodyMarker(out.conrod, "big-end", big_offset);
+    out.small_end = b.AddBodyMarker(out.conrod, "small-end", small_point);
+  }
+
+  if (cfg.Bool("gravity.enabled"))
+    b.SetGravity(Vec2(cfg.Quantity("gravity.x"), cfg.Quantity("gravity.y")));
+
+  out.recipe = &FindRecipe(cfg.Text("mechanism.type"));
+  out.recipe->Build(cfg, ideal_joint, &b, &out);
+  return out;
+}
+
+MechanismModel BuildMechanismWithRodDamping(const Config& cfg,
+                                            std::shared_ptr<const fem::ReducedRod> rod,
+                                            bool ideal_joint,
+                                            const multibody::DampingSpec& rod_damping) {
+  return BuildMechanismPass(cfg, std::move(rod), ideal_joint, &rod_damping);
+}
+
+namespace {
+
+/// The exact rod's Kelvin–Voigt β for damping.type = ratio | band: fitted so that the rod's
+/// first mode in the assembled mechanism (crank held, initial crank angle, ideal small-end joint,
+/// as for the reduced rod) has the requested ratio, ζ_1 = β ω_1 / 2; higher modes get more
+/// (ζ_i = β ω_i / 2), as from a Rayleigh stiffness term fitted to mode 1.
+MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
+  if (!DampingRefersToMechanism(cfg)) return BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr);
+  const MechanismModel undamped = BuildMechanismWithRodDamping(cfg, nullptr, /*ideal_joint=*/true,
+                                                               multibody::DampingSpec::None());
+  const multibody::MechanismModes modes = multibody::CalcMechanismModes(
+      undamped.mechanism, undamped.p0, HeldForMechanismModes(undamped));
+  int first = 0;
+  while (first < modes.frequencies_hz.size() && !(modes.frequencies_hz[first] > 0.0)) ++first;
+  if (first == modes.frequencies_hz.size()) {
+    throw NumericalError(
+        "rod.type = exact: the mechanism has no elastic mode to refer damping.* to");
+  }
+  const double f1 = modes.frequencies_hz[first];
+  const double zeta = DampingRatiosFor(cfg, Vec::Constant(1, f1))(0);
+  const double beta = 2.0 * zeta / (2.0 * std::numbers::pi * f1);
+  MechanismModel out = BuildMechanismWithRodDamping(cfg, nullptr, ideal_joint,
+                                                    multibody::DampingSpec::Rayleigh(0.0, beta));
+  const int count = std::min<int>(8, static_cast<int>(modes.frequencies_hz.size()) - first);
+  out.mechanism_frequencies_hz = modes.frequencies_hz.segment(first, count);
+  out.mechanism_damping_ratios =
+      (std::numbers::pi * beta) * out.mechanism_frequencies_hz;  // β ω / 2
+  return out;
+}
+
+}  // namespace
+
+MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
+                              bool ideal_joint) {
+  if (cfg.Text("rod.type") == "exact") return BuildExactRodMechanism(cfg, ideal_joint);
+  if (!DampingRefersToMechanism(cfg))
+    return BuildMechanismPass(cfg, std::move(rod), ideal_joint, nullptr);
+  // Modal damping refers to the rod's modes in the assembled mechanism: build it undamped (ideal
+  // small-end joint), take its modes, build it again with the matching damping matrix.
+  if (!rod) rod = BuildReducedRod(cfg);
+  const MechanismModel undamped =
+      BuildMechanismWithRodDamping(cfg, rod, /*ideal_joint=*/true, multibody::DampingSpec::None());
+  const MechanismDamping referred = ReferDampingToMechanism(cfg, undamped);
+  MechanismModel out =
+      BuildMechanismWithRodDamping(cfg, std::move(rod), ideal_joint, referred.spec);
+  out.mechanism_frequencies_hz = referred.frequencies_hz;
+  out.mechanism_damping_ratios = referred.ratios;
+  return out;
+}
+
+}  // namespace flexrod

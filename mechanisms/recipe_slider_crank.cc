@@ -1,0 +1,304 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The slider-crank recipe (mechanism.type = slider-crank, both rigs of RIG.md): a crank on a
+// ground pivot turned by the drive (constant speed, speed profile or DC motor), the rod's big end
+// on the crank pin, the slider on a guide along +x at y = slider.offset, and the small-end joint
+// between the rod's bush and the slider's pin: ideal, or with clearance
+// (mechanisms/joint_config.h).
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "common/error.h"
+#include "mechanisms/joint_config.h"
+#include "mechanisms/mechanism_recipe.h"
+#include "multibody/clearance_joint.h"
+
+namespace flexrod {
+namespace {
+
+using multibody::MarkerId;
+using multibody::SampleView;
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
+  std::vector<std::pair<double, double>> knots;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const size_t colon = item.find(':');
+    if (colon == std::string::npos) {
+      throw InputError("drive.profile", text, "must be comma-separated time:speed pairs (s:rpm)");
+    }
+    const double t = ParseQuantity("drive.profile", item.substr(0, colon), Dimension::kTime);
+    const double rpm =
+        ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
+    knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
+  }
+  if (knots.size() < 2)
+    throw InputError("drive.profile", text, "needs at least two time:speed pairs");
+  for (size_t k = 1; k < knots.size(); ++k) {
+    if (!(knots[k].first > knots[k - 1].first)) {
+      throw InputError("drive.profile", text, "the times must be strictly increasing");
+    }
+  }
+  return knots;
+}
+
+/// The crank on its ground pivot, the rod's big end on its pin.
+void AddCrank(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* out) {
+  const double r = cfg.Quantity("crank.length");
+  out->crank_length = r;
+  out->crank = b->AddRigidBody(
+      {"crank", cfg.Quantity("crank.mass"), cfg.Quantity("crank.inertia"), Vec2::Zero()});
+  const MarkerId origin = b->AddGroundMarker("ground-axis", Vec2::Zero());
+  const MarkerId crank_axis = b->AddBodyMarker(out->crank, "crank-axis", Vec2::Zero());
+  out->crank_pin = b->AddBodyMarker(out->crank, "crank-pin", Vec2(r, 0.0));
+  out->crank_pivot_joint = b->AddRevolute("crank-pivot", origin, crank_axis);
+  out->big_end_joint = b->AddRevolute("big-end", out->crank_pin, out->big_end);
+}
+
+/// The slider on its guide, and the small-end joint between the rod's bush and its pin.
+void AddSliderAndJoint(const Config& cfg, bool ideal_joint, multibody::MechanismBuilder* b,
+                       MechanismModel* out) {
+  const double slider_mass = cfg.Quantity("slider.mass");
+  const double r = out->crank_length, e = cfg.Quantity("slider.offset");
+  if (!(out->effective_length > r + std::abs(e))) {
+    throw InputError("rod.length", FormatValue(out->rod_length),
+                     "the joint-to-joint length (" + FormatValue(out->effective_length) +
+                         " m) must exceed crank.length + |slider.offset| (" +
+                         FormatValue(r + std::abs(e)) + " m) for the crank to turn");
+  }
+  out->slider = b->AddRigidBody({"slider", slider_mass, 0.0, Vec2::Zero()});
+  out->journal = b->AddBodyMarker(out->slider, "journal", Vec2::Zero());
+  const MarkerId guide = b->AddGroundMarker("guide", Vec2(0.0, e));
+  multibody::PrismaticSpec ps;
+  ps.name = "guide";
+  ps.marker_i = guide;
+  ps.marker_j = out->journal;
+  ps.axis = Vec2(1.0, 0.0);
+  ps.damping = cfg.Quantity("slider.damping");
+  ps.friction_force = cfg.Quantity("slider.friction");
+  ps.friction_regularisation_speed = cfg.Quantity("slider.friction_velocity");
+  out->guide_joint = b->AddPrismatic(ps);
+
+  if (ideal_joint || cfg.Text("joint.type") == "ideal") {
+    out->small_end_joint = b->AddRevolute("small-end", out->small_end, out->journal);
+  } else {
+    // Clearance joint: bush on the rod's small-end clamp (marker i), pin on the slider (marker
+    // j). The slider keeps its guide (y and angle held); along it, it is free. p0 puts the
+    // journal at the bush centre (concentric pin: zero eccentricity, joint open).
+    ClearanceJointConfig joint = ResolveClearanceJoint(cfg, slider_mass);
+    out->clearance = b->AddForceElement("small-end-clearance", out->small_end, out->journal,
+                                        MakeClearanceJoint(joint));
+    out->joint_parameters = std::move(joint.parameters);
+  }
+}
+
+/// DC motor on armature-voltage (SCR) control: motor.* is the rated line, T = T_s (1 − ω/ω₀)
+/// at full voltage. A DC motor's torque line at armature voltage V is T = (k/R)(V − k ω): the
+/// slope k²/R = T_s/ω₀ is the motor's, the no-load speed scales with V. The SCR is set so that
+/// the no-load crank speed is drive.speed (V/V_rated = belt ratio · drive.speed / ω₀); under
+/// load the mean speed droops by the mean load torque / slope, and impacts make it fluctuate
+/// through the flywheel.
+multibody::DcMotorSpec MotorFromConfig(const Config& cfg) {
+  multibody::DcMotorSpec m;
+  const double rated_stall = cfg.Quantity("motor.stall_torque");
+  const double rated_no_load = cfg.Quantity("motor.no_load_speed");
+  m.ratio = cfg.Quantity("motor.belt_ratio");
+  const double w = cfg.Quantity("drive.speed");
+  const double voltage_fraction = m.ratio * w / rated_no_load;
+  if (voltage_fraction > 1.0 + 1e-12) {
+    throw InputError(
+        "drive.speed", FormatValue(w) + " rad/s",
+        "with drive.type = motor must be at most motor.no_load_speed / motor.belt_ratio = " +
+            FormatValue(rated_no_load / m.ratio) +
+            " rad/s: the no-load speed at full armature voltage");
+  }
+  m.stall_torque = voltage_fraction * rated_stall;
+  m.no_load_speed = voltage_fraction * rated_no_load;  // = belt ratio · drive.speed
+  m.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
+  m.Validate("motor");
+  return m;
+}
+
+/// The crank's drive: constant speed, speed profile or DC motor (drive.type).
+void AddDrive(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* out) {
+  const double theta0 = cfg.Quantity("drive.initial_angle");
+  const std::string drive = cfg.Text("drive.type");
+  // A profile given with another drive type is still checked: its rules hold whatever is used.
+  if (drive != "profile" && !cfg.Text("drive.profile").empty())
+    (void)ParseProfile(cfg.Text("drive.profile"));
+  if (drive == "constant") {
+    const double w = cfg.Quantity("drive.speed");
+    out->driver = b->AddConstantSpeedDriver("drive", out->crank, theta0, w);
+  } else if (drive == "profile") {
+    std::vector<double> times, speeds;
+    for (const auto& [t, w] : ParseProfile(cfg.Text("drive.profile"))) {
+      times.push_back(t);
+      speeds.push_back(w);
+    }
+    out->driver = b->AddSpeedProfileDriver("drive", out->crank, theta0, times, speeds);
+  } else {
+    out->driver = b->AddDcMotorDriver("drive", out->crank, MotorFromConfig(cfg));
+  }
+}
+
+/// p0 and v0: the rigid motion's configuration and velocity at crank angle drive.initial_angle.
+void SetRigidMotion(const Config& cfg, MechanismModel* out) {
+  const multibody::Mechanism& mech = out->mechanism;
+  const double r = out->crank_length, e = cfg.Quantity("slider.offset");
+  const Vec2 d = out->small_end_point - out->big_end_point;  // joint to joint, rod frame
+  auto rigid_pose = [&](double theta) {
+    Vec p = Vec::Zero(mech.num_coordinates());
+    const Vec2 P = r * Vec2(std::cos(theta), std::sin(theta));
+    const double ell = out->effective_length;
+    const Vec2 S(P.x() + std::sqrt(ell * ell - (e - P.y()) * (e - P.y())), e);
+    const double theta_rod = std::atan2(S.y() - P.y(), S.x() - P.x()) - std::atan2(d.y(), d.x());
+    p[mech.coordinate(out->crank, multibody::kTheta)] = theta;
+    PlaceRod(*out, P - Rotation(theta_rod) * out->big_end_point, theta_rod, &p);
+    p[mech.coordinate(out->slider, multibody::kX)] = S.x();
+    p[mech.coordinate(out->slider, multibody::kY)] = S.y();
+    return p;
+  };
+  const double theta0 = cfg.Quantity("drive.initial_angle");
+  out->p0 = rigid_pose(theta0);
+  // v = ω dp/dθ by a central difference (h = 1e-6 rad: error ~1e-12 relative).
+  // Constant drive and motor start at drive.speed (the motor at its no-load speed), a speed
+  // profile at rest: the profile's driver constraint sets its own velocity.
+  const double w0 = cfg.Text("drive.type") == "profile" ? 0.0 : cfg.Quantity("drive.speed");
+  constexpr double kH = 1e-6;
+  out->v0 = w0 * (rigid_pose(theta0 + kH) - rigid_pose(theta0 - kH)) / (2.0 * kH);
+}
+
+class SliderCrank final : public MechanismRecipe {
+ public:
+  const char* name() const override { return "slider-crank"; }
+  bool turns_a_crank() const override { return true; }
+
+  void Build(const Config& cfg, bool ideal_joint, multibody::MechanismBuilder* b,
+             MechanismModel* out) const override {
+    AddCrank(cfg, b, out);
+    AddSliderAndJoint(cfg, ideal_joint, b, out);
+    AddDrive(cfg, b, out);
+    out->mechanism = b->Build();
+    SetRigidMotion(cfg, out);
+  }
+
+  std::vector<int> HeldForModes(const MechanismModel& mm) const override {
+    return {mm.mechanism.coordinate(mm.crank, multibody::kTheta)};
+  }
+
+  void DefineChannels(const MechanismModel& mm, Recorder* rec,
+                      study::ImpactLogger* impacts) const override;
+
+  RunWindow SetUpRun(const Config& cfg, const MechanismModel& mm, double settle,
+                     multibody::InitialConditionSpec* ic,
+                     multibody::SimulationOptions* opt) const override;
+};
+
+void SliderCrank::DefineChannels(const MechanismModel& mm, Recorder* rec,
+                                 study::ImpactLogger* impacts) const {
+  const multibody::Mechanism& m = mm.mechanism;
+  const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
+  const int sx = m.coordinate(mm.slider, multibody::kX);
+  rec->Add({{"crank_angle", "rad"}, {"crank_speed", "rad/s"}, {"crank_torque", "N*m"}},
+           [=, driver = mm.driver](const SampleView& s, double* v) {
+             v[0] = s.coordinate(crank_theta);
+             v[1] = s.velocity(crank_theta);
+             v[2] = s.Driver(driver).torque;
+           });
+  rec->Add({{"slider_position", "m"}, {"slider_velocity", "m/s"}, {"slider_acceleration", "m/s^2"}},
+           [=](const SampleView& s, double* v) {
+             v[0] = s.coordinate(sx);
+             v[1] = s.velocity(sx);
+             v[2] = s.acceleration(sx);
+           });
+  // Force the crank pin exerts on the rod at the big end (marker j of the joint is the rod's).
+  rec->Add({{"big_end_force_x", "N"}, {"big_end_force_y", "N"}},
+           [joint = mm.big_end_joint](const SampleView& s, double* v) {
+             const Vec2 f = s.Reaction(joint).force_j;
+             v[0] = f.x();
+             v[1] = f.y();
+           });
+  if (mm.small_end_joint.index >= 0) {  // ideal small-end joint
+    // Force the journal exerts on the rod's bush (marker i of the small-end joint is the rod's).
+    rec->Add({{"bearing_force_x", "N"}, {"bearing_force_y", "N"}, {"bearing_force", "N"}},
+             [joint = mm.small_end_joint](const SampleView& s, double* v) {
+               const Vec2 f = s.Reaction(joint).force_i;
+               v[0] = f.x();
+               v[1] = f.y();
+               v[2] = f.norm();
+             });
+  }
+  if (mm.clearance.index >= 0) {  // clearance small-end joint (multibody/clearance_joint.h)
+    // Pin centre relative to the bush centre (world axes); penetration < 0 is the open gap.
+    rec->Add({{"journal_eccentricity_x", "m"},
+              {"journal_eccentricity_y", "m"},
+              {"journal_eccentricity", "m"},
+              {"penetration", "m"},
+              {"penetration_rate", "m/s"},
+              {"contact_normal_force", "N"},
+              {"contact_friction_force", "N"},
+              {"contact_dissipation", "W"},
+              {"bearing_force", "N"}},
+             [=, joint = mm.clearance](const SampleView& s, double* v) {
+               const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, joint);
+               if (impacts)
+                 impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta), r));
+               v[0] = r.kinematics.eccentricity.x();
+               v[1] = r.kinematics.eccentricity.y();
+               v[2] = r.kinematics.eccentricity_norm;
+               v[3] = r.kinematics.penetration;
+               v[4] = r.kinematics.penetration_rate;
+               v[5] = r.normal_force;
+               v[6] = r.friction_force;
+               v[7] = r.dissipation();
+               v[8] = std::hypot(r.normal_force, r.friction_force);  // |force on the bush|
+             });
+  }
+}
+
+RunWindow SliderCrank::SetUpRun(const Config& cfg, const MechanismModel& mm, double settle,
+                                multibody::InitialConditionSpec* ic,
+                                multibody::SimulationOptions* opt) const {
+  const multibody::Mechanism& m = mm.mechanism;
+  RunWindow window{settle, 0.0};
+  const int ct = m.coordinate(mm.crank, multibody::kTheta);
+  const double w0 = cfg.Text("drive.type") == "constant" ? cfg.Quantity("drive.speed") : 0.0;
+  if (cfg.Text("drive.type") == "motor") {  // constraint drivers fix the crank themselves
+    ic->fixed_coordinates = {ct};
+    ic->fixed_velocities = {ct};
+  }
+  if (mm.clearance.index >= 0) {
+    // With a clearance joint the rod angle and the slider are free: start them concentric on
+    // the rigid motion (p0, v0), so the run does not begin with an artificial impact.
+    const int rod_theta = m.coordinate(mm.conrod, multibody::kTheta);
+    const int slider_x = m.coordinate(mm.slider, multibody::kX);
+    ic->fixed_coordinates.insert(ic->fixed_coordinates.end(), {rod_theta, slider_x});
+    ic->fixed_velocities.insert(ic->fixed_velocities.end(), {rod_theta, slider_x});
+  }
+  opt->index_event = multibody::IndexEventSpec{mm.crank, cfg.Quantity("sim.index_angle")};
+  opt->start_sampling_at_index = true;
+  if (cfg.Text("drive.type") == "constant") {
+    // Exact index time: θ0 + ω t = θ_index + 2πk, first k with t ≥ settle.
+    const double theta0 = cfg.Quantity("drive.initial_angle"),
+                 idx = cfg.Quantity("sim.index_angle");
+    const double k = std::ceil((theta0 + w0 * settle - idx) / kTwoPi - 1e-12);
+    window.capture_start = (idx + kTwoPi * k - theta0) / w0;
+    opt->start_sampling_at_index = false;  // the grid starts exactly at the index time
+  } else {
+    // The index event after sim.settle starts the grid: allow up to 1 s of waiting for it.
+    window.extra_time = 1.0;
+  }
+  return window;
+}
+
+}  // namespace
+
+const MechanismRecipe& SliderCrankRecipe() {
+  static const SliderCrank recipe;
+  return recipe;
+}
+
+}  // namespace flexrod
