@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "run/rigid_rig_studies.h"
+
 namespace flexrod {
 
 std::vector<ReductionVariant> ReductionVariants() {
@@ -66,6 +68,42 @@ ReductionFigures FiguresOf(const nlohmann::json& s, double first_impact_time) {
   f.value[5] = strain;
   f.value[6] = first_impact_time;
   return f;
+}
+
+ReductionTable TabulateReduction(const std::vector<ReductionVariant>& variants,
+                                 const std::vector<ReductionFigures>& figures,
+                                 const std::vector<std::string>& outcomes,
+                                 const std::vector<double>& walls, double within) {
+  ReductionTable t;
+  t.header = {"variant", "outcome"};
+  for (int c = 0; c < ReductionFigures::kCount; ++c) {
+    t.header.push_back(ReductionFigures::Name(c));
+    t.header.push_back(std::string("diff. to exact [%]"));
+  }
+  t.header.push_back("max |diff.| [%]");
+  t.header.push_back("wall [s]");
+  const ReductionFigures& ref = figures.front();
+  for (size_t i = 0; i < variants.size(); ++i) {
+    std::vector<std::string> row = {variants[i].name, outcomes[i]};
+    double worst = 0.0;
+    for (int c = 0; c < ReductionFigures::kCount; ++c) {
+      const double v = figures[i].value[c], e = ref.value[c];
+      const double diff =
+          std::isfinite(v) && std::isfinite(e) && e != 0.0 ? 100.0 * (v - e) / std::abs(e) : NAN;
+      if (std::isfinite(diff)) worst = std::max(worst, std::abs(diff));
+      row.push_back(StudyNumber(nlohmann::json(v)));
+      row.push_back(StudyNumber(nlohmann::json(diff)));
+    }
+    row.push_back(StudyNumber(nlohmann::json(worst)));
+    row.push_back(StudyNumber(nlohmann::json(walls[i])));
+    if (variants[i].modes >= 0) {  // the smallest k from which every larger k stays within
+      const bool ok = worst <= within && outcomes[i] == "completed";
+      if (!ok) t.smallest_k = -1;
+      if (ok && t.smallest_k < 0) t.smallest_k = variants[i].modes;
+    }
+    t.rows.push_back(row);
+  }
+  return t;
 }
 
 }  // namespace flexrod
