@@ -44,17 +44,17 @@ std::vector<int> HeldForMechanismModes(const MechanismModel& model);
 
 /// The ratio ζ [-] damping.* asks of each mode of frequency frequencies_hz [Hz]: damping.ratio
 /// for every mode (type ratio), or by the frequency band (type band).
-Vec DampingRatiosFor(const Config& cfg, const Vec& frequencies_hz);
+Vec DampingRatiosFor(const DampingOptions& damping, const Vec& frequencies_hz);
 
-/// Modes of `undamped` — the mechanism of cfg built with the rod undamped and an ideal
+/// Modes of `undamped` — the mechanism built with the rod undamped and an ideal
 /// small-end joint — at its initial configuration p0 at rest with HeldForMechanismModes held;
-/// ratios per mode from damping.* (ratio: damping.ratio for every mode; band: by each mode's
+/// ratios per mode from its damping.* (ratio: damping.ratio for every mode; band: by each mode's
 /// frequency with the limits and ratios of multibody::DampingSpec::FrequencyBand()); and the
 /// rod damping matrix that gives the modes exactly those ratios
 /// (multibody::ModalDampingForBody). The ideal joint is the reference also for clearance runs:
 /// the clearance joint is open at the concentric start and would leave the small end free,
 /// while in contact the pin carries the small end as the ideal joint does; a clearance run and
 /// its ideal twin thus share one D. Other damping (the slider guide's) adds to these ratios.
-MechanismDamping ReferDampingToMechanism(const Config& cfg, const MechanismModel& undamped);
+MechanismDamping ReferDampingToMechanism(const MechanismModel& undamped);
 
 }  // namespace flexrod

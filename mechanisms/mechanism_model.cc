@@ -18,17 +18,16 @@ namespace {
 using multibody::BodyId;
 using multibody::MarkerId;
 
-multibody::DampingSpec DampingFromConfig(const Config& cfg) {
-  const std::string type = cfg.Text("damping.type");
+/// The rod's damping as damping.* gives it, in the rod's own (clamped-frame) modes.
+multibody::DampingSpec DampingSpecOf(const DampingOptions& o) {
   multibody::DampingSpec d;
-  if (type == "band") {
+  if (o.type == DampingOptions::Type::kBand) {
     d = multibody::DampingSpec::FrequencyBand();
-  } else if (type == "ratio") {
-    const double zeta = cfg.Quantity("damping.ratio");
-    d = zeta > 0.0 ? multibody::DampingSpec::ModalRatio({zeta}) : multibody::DampingSpec::None();
+  } else if (o.type == DampingOptions::Type::kRatio) {
+    d = o.ratio > 0.0 ? multibody::DampingSpec::ModalRatio({o.ratio})
+                      : multibody::DampingSpec::None();
   } else {
-    d = multibody::DampingSpec::Rayleigh(cfg.Quantity("damping.alpha"),
-                                         cfg.Quantity("damping.beta"));
+    d = multibody::DampingSpec::Rayleigh(o.alpha, o.beta);
   }
   return d;
 }
@@ -92,6 +91,8 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
                                          bool ideal_joint,
                                          const multibody::DampingSpec* rod_damping) {
   MechanismModel out;
+  out.drive = ReadDriveOptions(cfg);
+  out.damping = ReadDampingOptions(cfg);
   multibody::MechanismBuilder b;
   const bool flexible = cfg.Text("rod.type") == "flexible";
   if (flexible && !rod) rod = BuildReducedRod(cfg);
@@ -113,7 +114,7 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
     multibody::FlexibleBodySpec fs;
     fs.name = "rod";
     fs.rod = rod;
-    fs.damping = rod_damping != nullptr ? *rod_damping : DampingFromConfig(cfg);
+    fs.damping = rod_damping != nullptr ? *rod_damping : DampingSpecOf(out.damping);
     fs.geometric_stiffening = cfg.Bool("rod.geometric_stiffening");
     out.conrod = b.AddFlexibleBody(fs);
     out.big_end = b.AddNodeMarker(out.conrod, "big-end", 0, big_offset);
@@ -136,7 +137,7 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
     // The geometrically exact rod (multibody/exact_rod.h): Kelvin–Voigt damping β from the
     // Rayleigh stiffness factor (BuildMechanism refers ratio and band damping to it).
     const multibody::DampingSpec damping =
-        rod_damping != nullptr ? *rod_damping : DampingFromConfig(cfg);
+        rod_damping != nullptr ? *rod_damping : DampingSpecOf(out.damping);
     if (damping.kind == multibody::DampingKind::kRayleigh && damping.rayleigh_alpha != 0.0) {
       throw InputError("damping.alpha", FormatValue(damping.rayleigh_alpha) + " 1/s",
                        "must be 0 with rod.type = exact: mass-proportional damping would damp the "
@@ -198,7 +199,7 @@ MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
         "rod.type = exact: the mechanism has no elastic mode to refer damping.* to");
   }
   const double f1 = modes.frequencies_hz[first];
-  const double zeta = DampingRatiosFor(cfg, Vec::Constant(1, f1))(0);
+  const double zeta = DampingRatiosFor(undamped.damping, Vec::Constant(1, f1))(0);
   const double beta = 2.0 * zeta / (2.0 * std::numbers::pi * f1);
   MechanismModel out = BuildMechanismWithRodDamping(cfg, nullptr, ideal_joint,
                                                     multibody::DampingSpec::Rayleigh(0.0, beta));
@@ -221,7 +222,7 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   if (!rod) rod = BuildReducedRod(cfg);
   const MechanismModel undamped =
       BuildMechanismWithRodDamping(cfg, rod, /*ideal_joint=*/true, multibody::DampingSpec::None());
-  const MechanismDamping referred = ReferDampingToMechanism(cfg, undamped);
+  const MechanismDamping referred = ReferDampingToMechanism(undamped);
   MechanismModel out =
       BuildMechanismWithRodDamping(cfg, std::move(rod), ideal_joint, referred.spec);
   out.mechanism_frequencies_hz = referred.frequencies_hz;

@@ -17,6 +17,7 @@
 
 #include "fem/reduced_rod.h"
 #include "input/config.h"
+#include "input/options.h"
 #include "multibody/clearance_joint.h"
 #include "multibody/exact_rod.h"
 #include "multibody/mechanism.h"
@@ -28,6 +29,8 @@ class MechanismRecipe;
 struct MechanismModel {
   /// The recipe of mechanism.type that built it (mechanisms/mechanism_recipe.h).
   const MechanismRecipe* recipe{nullptr};
+  DriveOptions drive;      ///< drive.*, motor.* (a recipe with a crank drives it so)
+  DampingOptions damping;  ///< damping.*: what the user asked of the rod
   multibody::Mechanism mechanism;
   std::shared_ptr<const fem::ReducedRod> rod;  ///< rod.type = flexible (null otherwise)
   /// rod.type = exact: the geometrically exact rod's node bodies and elements (null otherwise);

@@ -54,9 +54,9 @@ class MechanismRecipe {
                               study::ImpactLogger* impacts) const = 0;
 
   /// Completes the initial conditions (`ic`: the coordinates consistent initialisation keeps)
-  /// and the integrator's options (an index event starting the capture) of a run with
-  /// sim.settle = `settle` [s], and returns its capture window.
-  virtual RunWindow SetUpRun(const Config& cfg, const MechanismModel& mm, double settle,
+  /// and the integrator's options (an index event starting the capture) of a run with `sim`,
+  /// and returns its capture window.
+  virtual RunWindow SetUpRun(const SimOptions& sim, const MechanismModel& mm,
                              multibody::InitialConditionSpec* ic,
                              multibody::SimulationOptions* opt) const = 0;
 };

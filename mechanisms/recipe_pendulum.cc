@@ -35,14 +35,14 @@ class Pendulum final : public MechanismRecipe {
              });
   }
 
-  RunWindow SetUpRun(const Config& /*cfg*/, const MechanismModel& mm, double settle,
+  RunWindow SetUpRun(const SimOptions& sim, const MechanismModel& mm,
                      multibody::InitialConditionSpec* ic,
                      multibody::SimulationOptions* /*opt*/) const override {
     // Released from the horizontal: consistent initialisation keeps the rod's angle.
     const int rod_theta = mm.mechanism.coordinate(mm.conrod, multibody::kTheta);
     ic->fixed_coordinates = {rod_theta};
     ic->fixed_velocities = {rod_theta};
-    return {settle, 0.0};
+    return {sim.settle, 0.0};
   }
 };
 

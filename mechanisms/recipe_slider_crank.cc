@@ -21,30 +21,6 @@ using multibody::SampleView;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
-  std::vector<std::pair<double, double>> knots;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const size_t colon = item.find(':');
-    if (colon == std::string::npos) {
-      throw InputError("drive.profile", text, "must be comma-separated time:speed pairs (s:rpm)");
-    }
-    const double t = ParseQuantity("drive.profile", item.substr(0, colon), Dimension::kTime);
-    const double rpm =
-        ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
-    knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
-  }
-  if (knots.size() < 2)
-    throw InputError("drive.profile", text, "needs at least two time:speed pairs");
-  for (size_t k = 1; k < knots.size(); ++k) {
-    if (!(knots[k].first > knots[k - 1].first)) {
-      throw InputError("drive.profile", text, "the times must be strictly increasing");
-    }
-  }
-  return knots;
-}
-
 /// The crank on its ground pivot, the rod's big end on its pin.
 void AddCrank(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* out) {
   const double r = cfg.Quantity("crank.length");
@@ -101,12 +77,12 @@ void AddSliderAndJoint(const Config& cfg, bool ideal_joint, multibody::Mechanism
 /// the no-load crank speed is drive.speed (V/V_rated = belt ratio · drive.speed / ω₀); under
 /// load the mean speed droops by the mean load torque / slope, and impacts make it fluctuate
 /// through the flywheel.
-multibody::DcMotorSpec MotorFromConfig(const Config& cfg) {
+multibody::DcMotorSpec MotorOf(const DriveOptions& drive) {
   multibody::DcMotorSpec m;
-  const double rated_stall = cfg.Quantity("motor.stall_torque");
-  const double rated_no_load = cfg.Quantity("motor.no_load_speed");
-  m.ratio = cfg.Quantity("motor.belt_ratio");
-  const double w = cfg.Quantity("drive.speed");
+  const double rated_stall = drive.motor.stall_torque;
+  const double rated_no_load = drive.motor.no_load_speed;
+  m.ratio = drive.motor.belt_ratio;
+  const double w = drive.speed;
   const double voltage_fraction = m.ratio * w / rated_no_load;
   if (voltage_fraction > 1.0 + 1e-12) {
     throw InputError(
@@ -117,30 +93,26 @@ multibody::DcMotorSpec MotorFromConfig(const Config& cfg) {
   }
   m.stall_torque = voltage_fraction * rated_stall;
   m.no_load_speed = voltage_fraction * rated_no_load;  // = belt ratio · drive.speed
-  m.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
+  m.flywheel_inertia = drive.motor.flywheel_inertia;
   m.Validate("motor");
   return m;
 }
 
 /// The crank's drive: constant speed, speed profile or DC motor (drive.type).
-void AddDrive(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* out) {
-  const double theta0 = cfg.Quantity("drive.initial_angle");
-  const std::string drive = cfg.Text("drive.type");
-  // A profile given with another drive type is still checked: its rules hold whatever is used.
-  if (drive != "profile" && !cfg.Text("drive.profile").empty())
-    (void)ParseProfile(cfg.Text("drive.profile"));
-  if (drive == "constant") {
-    const double w = cfg.Quantity("drive.speed");
-    out->driver = b->AddConstantSpeedDriver("drive", out->crank, theta0, w);
-  } else if (drive == "profile") {
+void AddDrive(multibody::MechanismBuilder* b, MechanismModel* out) {
+  const DriveOptions& drive = out->drive;
+  const double theta0 = drive.initial_angle;
+  if (drive.type == DriveOptions::Type::kConstant) {
+    out->driver = b->AddConstantSpeedDriver("drive", out->crank, theta0, drive.speed);
+  } else if (drive.type == DriveOptions::Type::kProfile) {
     std::vector<double> times, speeds;
-    for (const auto& [t, w] : ParseProfile(cfg.Text("drive.profile"))) {
+    for (const auto& [t, w] : drive.profile) {
       times.push_back(t);
       speeds.push_back(w);
     }
     out->driver = b->AddSpeedProfileDriver("drive", out->crank, theta0, times, speeds);
   } else {
-    out->driver = b->AddDcMotorDriver("drive", out->crank, MotorFromConfig(cfg));
+    out->driver = b->AddDcMotorDriver("drive", out->crank, MotorOf(drive));
   }
 }
 
@@ -161,12 +133,12 @@ void SetRigidMotion(const Config& cfg, MechanismModel* out) {
     p[mech.coordinate(out->slider, multibody::kY)] = S.y();
     return p;
   };
-  const double theta0 = cfg.Quantity("drive.initial_angle");
+  const double theta0 = out->drive.initial_angle;
   out->p0 = rigid_pose(theta0);
   // v = ω dp/dθ by a central difference (h = 1e-6 rad: error ~1e-12 relative).
   // Constant drive and motor start at drive.speed (the motor at its no-load speed), a speed
   // profile at rest: the profile's driver constraint sets its own velocity.
-  const double w0 = cfg.Text("drive.type") == "profile" ? 0.0 : cfg.Quantity("drive.speed");
+  const double w0 = out->drive.type == DriveOptions::Type::kProfile ? 0.0 : out->drive.speed;
   constexpr double kH = 1e-6;
   out->v0 = w0 * (rigid_pose(theta0 + kH) - rigid_pose(theta0 - kH)) / (2.0 * kH);
 }
@@ -180,7 +152,7 @@ class SliderCrank final : public MechanismRecipe {
              MechanismModel* out) const override {
     AddCrank(cfg, b, out);
     AddSliderAndJoint(cfg, ideal_joint, b, out);
-    AddDrive(cfg, b, out);
+    AddDrive(b, out);
     out->mechanism = b->Build();
     SetRigidMotion(cfg, out);
   }
@@ -192,7 +164,7 @@ class SliderCrank final : public MechanismRecipe {
   void DefineChannels(const MechanismModel& mm, Recorder* rec,
                       study::ImpactLogger* impacts) const override;
 
-  RunWindow SetUpRun(const Config& cfg, const MechanismModel& mm, double settle,
+  RunWindow SetUpRun(const SimOptions& sim, const MechanismModel& mm,
                      multibody::InitialConditionSpec* ic,
                      multibody::SimulationOptions* opt) const override;
 };
@@ -259,14 +231,16 @@ void SliderCrank::DefineChannels(const MechanismModel& mm, Recorder* rec,
   }
 }
 
-RunWindow SliderCrank::SetUpRun(const Config& cfg, const MechanismModel& mm, double settle,
+RunWindow SliderCrank::SetUpRun(const SimOptions& sim, const MechanismModel& mm,
                                 multibody::InitialConditionSpec* ic,
                                 multibody::SimulationOptions* opt) const {
   const multibody::Mechanism& m = mm.mechanism;
+  const double settle = sim.settle;
   RunWindow window{settle, 0.0};
   const int ct = m.coordinate(mm.crank, multibody::kTheta);
-  const double w0 = cfg.Text("drive.type") == "constant" ? cfg.Quantity("drive.speed") : 0.0;
-  if (cfg.Text("drive.type") == "motor") {  // constraint drivers fix the crank themselves
+  const bool constant = mm.drive.type == DriveOptions::Type::kConstant;
+  const double w0 = constant ? mm.drive.speed : 0.0;
+  if (mm.drive.type == DriveOptions::Type::kMotor) {  // constraint drivers fix the crank themselves
     ic->fixed_coordinates = {ct};
     ic->fixed_velocities = {ct};
   }
@@ -278,12 +252,11 @@ RunWindow SliderCrank::SetUpRun(const Config& cfg, const MechanismModel& mm, dou
     ic->fixed_coordinates.insert(ic->fixed_coordinates.end(), {rod_theta, slider_x});
     ic->fixed_velocities.insert(ic->fixed_velocities.end(), {rod_theta, slider_x});
   }
-  opt->index_event = multibody::IndexEventSpec{mm.crank, cfg.Quantity("sim.index_angle")};
+  opt->index_event = multibody::IndexEventSpec{mm.crank, sim.index_angle};
   opt->start_sampling_at_index = true;
-  if (cfg.Text("drive.type") == "constant") {
+  if (constant) {
     // Exact index time: θ0 + ω t = θ_index + 2πk, first k with t ≥ settle.
-    const double theta0 = cfg.Quantity("drive.initial_angle"),
-                 idx = cfg.Quantity("sim.index_angle");
+    const double theta0 = mm.drive.initial_angle, idx = sim.index_angle;
     const double k = std::ceil((theta0 + w0 * settle - idx) / kTwoPi - 1e-12);
     window.capture_start = (idx + kTwoPi * k - theta0) / w0;
     opt->start_sampling_at_index = false;  // the grid starts exactly at the index time

@@ -136,9 +136,9 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
     s["crank_speed"] = {{"mean [rad/s]", (th.back() - th.front()) / duration},
                         {"min [rad/s]", stat("crank_speed").min},
                         {"max [rad/s]", stat("crank_speed").max},
-                        {"set [rad/s]", cfg.Text("drive.type") == "profile"
+                        {"set [rad/s]", mm.drive.type == DriveOptions::Type::kProfile
                                             ? nlohmann::json(nullptr)
-                                            : nlohmann::json(cfg.Quantity("drive.speed"))}};
+                                            : nlohmann::json(mm.drive.speed)}};
     if (run.slider_acceleration)
       s["slider_acceleration"] = SignalSummaryJson(*run.slider_acceleration, "m/s^2");
   }
@@ -183,27 +183,27 @@ namespace {
 /// The integrator's options of a run of `mm` and its initial conditions `ic`: tolerances and
 /// limits from sim.*, the capture window from the recipe, the wall-clock deadline counted from
 /// `wall0`.
-multibody::SimulationOptions RunOptions(const Config& cfg, const MechanismModel& mm,
+multibody::SimulationOptions RunOptions(const SimOptions& sim, const MechanismModel& mm,
                                         std::chrono::steady_clock::time_point wall0, bool profile,
                                         const std::atomic<bool>* stop,
                                         multibody::InitialConditionSpec* ic) {
   const multibody::Mechanism& m = mm.mechanism;
-  multibody::SimulationOptions opt = OptionsFromConfig(cfg);
-  const double settle = cfg.Quantity("sim.settle");
-  const double capture = cfg.Quantity("sim.capture");
+  multibody::SimulationOptions opt = IntegratorOptions(sim);
+  const double settle = sim.settle;
+  const double capture = sim.capture;
   ic->coordinates = mm.p0;
   ic->velocities = mm.v0;
-  ic->elastic = cfg.Text("sim.start") == "static"
+  ic->elastic = sim.start == SimOptions::Start::kStatic
                     ? multibody::ElasticInitialState::kStaticEquilibrium
                     : multibody::ElasticInitialState::kUndeformed;
-  const RunWindow window = mm.recipe->SetUpRun(cfg, mm, settle, ic, &opt);
+  const RunWindow window = mm.recipe->SetUpRun(sim, mm, ic, &opt);
   const double t_capture_start = window.capture_start;
   opt.t_start = 0.0;
   opt.sample_start = opt.start_sampling_at_index ? settle : t_capture_start;
   opt.t_end = t_capture_start + capture + window.extra_time;
-  const int max_steps = cfg.Integer("sim.max_steps");
+  const int max_steps = sim.max_steps;
   opt.max_steps = max_steps > 0 ? max_steps : std::lround(1e6 * (opt.t_end - opt.t_start)) + 100000;
-  if (const double budget = cfg.Quantity("sim.max_wall_time"); budget > 0.0) {
+  if (const double budget = sim.max_wall_time; budget > 0.0) {
     // Capped at 10⁹ s (32 years), which keeps the conversion to clock ticks defined.
     opt.deadline = wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                std::chrono::duration<double>(std::min(budget, 1e9)));
@@ -224,20 +224,19 @@ multibody::SimulationOptions RunOptions(const Config& cfg, const MechanismModel&
 /// cannot be closer than the integration error: on the flexible rig (ideal joint, 200 rpm)
 /// successive revolutions of a long run differ by 2e-4 of the peak at rel_tol 1e-6 and 1.5e-8
 /// at 1e-8.
-multibody::ConsistentState FindSteadyState(const Config& cfg, const MechanismModel& mm,
+multibody::ConsistentState FindSteadyState(const SimOptions& sim, const MechanismModel& mm,
                                            const multibody::SimulationOptions& opt,
                                            const multibody::InitialConditionSpec& ic,
                                            multibody::RunData* data,
                                            multibody::SimulationStatus* status,
                                            nlohmann::json* steady) {
   const multibody::Mechanism& m = mm.mechanism;
-  const int max_revolutions = cfg.Integer("sim.steady_revolutions");
+  const int max_revolutions = sim.steady_revolutions;
   constexpr int kSteadySamples = 16;
   const double tolerance = std::clamp(1e3 * opt.integrator.rel_tol, 1e-6, 1e-2);
   multibody::ConsistentState state = multibody::ComputeConsistentState(m, data, 0.0, ic);
-  const double period = kTwoPi / cfg.Quantity("drive.speed");
-  const double to_index =
-      WrapToTwoPi(cfg.Quantity("sim.index_angle") - cfg.Quantity("drive.initial_angle"));
+  const double period = kTwoPi / mm.drive.speed;
+  const double to_index = WrapToTwoPi(sim.index_angle - mm.drive.initial_angle);
   const double t_first_index = to_index * period / kTwoPi;
   // The rod's elastic state: its elastic coordinates q (reduced rod), the nodes' deflections
   // from the chord (exact rod).
@@ -290,8 +289,8 @@ multibody::ConsistentState FindSteadyState(const Config& cfg, const MechanismMod
 /// The summary of a finished run `out` (its channels, impacts and status set): per-revolution
 /// statistics of a crank's run, the channel summaries, the steady start, the impacts, the
 /// integrator's counters.
-void SummariseRun(const Config& cfg, const MechanismModel& mm, const Recorder& rec,
-                  const nlohmann::json& gauges, const nlohmann::json& steady,
+void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel& mm,
+                  const Recorder& rec, const nlohmann::json& gauges, const nlohmann::json& steady,
                   study::ImpactLogger* impacts, bool profile,
                   std::chrono::steady_clock::time_point wall0, RunResult* out_ptr) {
   const multibody::Mechanism& m = mm.mechanism;
@@ -299,8 +298,8 @@ void SummariseRun(const Config& cfg, const MechanismModel& mm, const Recorder& r
   if (mm.recipe->turns_a_crank() && out.channels.num_samples() > 2) {
     // One split into revolutions for both channels (and, through the twin's, the amplification).
     const study::SampleRange all = out.channels.all();
-    const std::vector<study::SampleRange> revolutions = study::SplitRevolutions(
-        out.channels.values("crank_angle"), cfg.Quantity("sim.index_angle"), all);
+    const std::vector<study::SampleRange> revolutions =
+        study::SplitRevolutions(out.channels.values("crank_angle"), sim.index_angle, all);
     out.slider_acceleration =
         study::CalcSignalSummary(out.channels.values("slider_acceleration"), all, revolutions);
     out.bearing_force =
@@ -357,10 +356,10 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
   const multibody::Mechanism& m = mm.mechanism;
-  CheckRunInput(cfg, mm);
+  const SimOptions sim = CheckRunInput(cfg, mm);
   multibody::InitialConditionSpec ic;
-  multibody::SimulationOptions opt = RunOptions(cfg, mm, wall0, profile, stop, &ic);
-  const double capture = cfg.Quantity("sim.capture");
+  multibody::SimulationOptions opt = RunOptions(sim, mm, wall0, profile, stop, &ic);
+  const double capture = sim.capture;
   Recorder rec;
   nlohmann::json gauges;
   std::optional<study::ImpactLogger> impacts;  // clearance runs: every located contact event
@@ -406,9 +405,9 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
 
   RunResult out;
   nlohmann::json steady;  // sim.start = steady: how the periodic state was found
-  if (cfg.Text("sim.start") == "steady") {
+  if (sim.start == SimOptions::Start::kSteady) {
     const multibody::ConsistentState state =
-        FindSteadyState(cfg, mm, opt, ic, &data, &out.status, &steady);
+        FindSteadyState(sim, mm, opt, ic, &data, &out.status, &steady);
     if (out.status.ok()) {
       opt.sample_start = state.t;
       opt.t_end = state.t + capture;
@@ -420,7 +419,8 @@ RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, 
   }
   out.channels = rec.Finish(rate);
   if (vtk) out.vtk = vtk->Finish();
-  SummariseRun(cfg, mm, rec, gauges, steady, impacts ? &*impacts : nullptr, profile, wall0, &out);
+  SummariseRun(cfg, sim, mm, rec, gauges, steady, impacts ? &*impacts : nullptr, profile, wall0,
+               &out);
   if (model_out) *model_out = std::move(mm);
   return out;
 }
@@ -533,7 +533,7 @@ Config TightenedForCheck(const Config& cfg) {
     check.Set(key, FormatValue(cfg.Quantity(key) / 100.0));
   }
   try {
-    (void)OptionsFromConfig(check);
+    (void)IntegratorOptions(ReadSimOptions(check));
   } catch (const InputError& e) {
     // The user's value is named; the derived one is in the rule.
     const bool tolerance = e.key() == "sim.rel_tol" || e.key() == "sim.abs_tol";

@@ -47,7 +47,8 @@ struct RunResult {
 /// own keys: sim.* (tolerances, settle, a capture of at least 2 samples, the start), the probe
 /// and gauge positions on the rod, the output.* selection. Throws InputError naming the key,
 /// the value and the rule. Sweeps and studies call it for every run before any run starts.
-void CheckRunInput(const Config& cfg, const MechanismModel& mm);
+/// Returns sim.*, checked.
+SimOptions CheckRunInput(const Config& cfg, const MechanismModel& mm);
 
 /// The names of the channels a run of `mm` records (RunResult::channels), in their order,
 /// without running it.

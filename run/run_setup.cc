@@ -154,18 +154,17 @@ void DefineChannels(const Config& cfg, const MechanismModel& mm, Recorder* rec,
            [](const SampleView& s, double* v) { v[0] = s.ConstraintViolation(); });
 }
 
-multibody::SimulationOptions OptionsFromConfig(const Config& cfg) {
+multibody::SimulationOptions IntegratorOptions(const SimOptions& sim) {
   multibody::SimulationOptions o;
-  o.sample_rate = cfg.Quantity("sim.sample_rate");
-  RequirePositive("sim.sample_rate", o.sample_rate);
-  o.integrator.rel_tol = cfg.Quantity("sim.rel_tol");
-  o.integrator.abs_tol = cfg.Quantity("sim.abs_tol");
-  o.integrator.max_step = cfg.Quantity("sim.max_step");
-  const std::string ls = cfg.Text("sim.linear_solver");
-  o.integrator.linear_solver = ls == "dense" ? multibody::LinearSolverKind::kDense
-                               : ls == "klu" ? multibody::LinearSolverKind::kKlu
-                                             : multibody::LinearSolverKind::kAuto;
-  o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
+  o.sample_rate = sim.sample_rate;
+  o.integrator.rel_tol = sim.rel_tol;
+  o.integrator.abs_tol = sim.abs_tol;
+  o.integrator.max_step = sim.max_step;
+  o.integrator.linear_solver =
+      sim.linear_solver == SimOptions::LinearSolver::kDense ? multibody::LinearSolverKind::kDense
+      : sim.linear_solver == SimOptions::LinearSolver::kKlu ? multibody::LinearSolverKind::kKlu
+                                                            : multibody::LinearSolverKind::kAuto;
+  o.eliminate_prescribed = sim.eliminate_prescribed;
   try {
     o.integrator.Validate();
   } catch (const InputError& e) {  // the integrator's option is the user's sim.* key
@@ -215,28 +214,29 @@ std::vector<std::string> RunChannelNames(const Config& cfg, const MechanismModel
   return scratch.names();
 }
 
-void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
-  const multibody::SimulationOptions opt = OptionsFromConfig(cfg);
-  const double capture = cfg.Quantity("sim.capture");
+SimOptions CheckRunInput(const Config& cfg, const MechanismModel& mm) {
+  const SimOptions sim = ReadSimOptions(cfg);
+  const multibody::SimulationOptions opt = IntegratorOptions(sim);
+  const double capture = sim.capture;
   if (!(capture * opt.sample_rate >= 2.0)) {
     throw InputError(
         "sim.capture", FormatValue(capture) + " s",
         "must hold at least 2 samples at sim.sample_rate = " + FormatValue(opt.sample_rate) +
             " Hz (>= " + FormatValue(2.0 / opt.sample_rate) + " s)");
   }
-  const std::string start = cfg.Text("sim.start");
-  const int max_revolutions = cfg.Integer("sim.steady_revolutions");
+  const bool steady = sim.start == SimOptions::Start::kSteady;
+  const int max_revolutions = sim.steady_revolutions;
   if (max_revolutions < 2) {
     throw InputError("sim.steady_revolutions", std::to_string(max_revolutions),
                      "must be >= 2 (two revolutions are the least that can repeat)");
   }
-  if (start == "steady" && (!mm.recipe->turns_a_crank() || !(mm.rod || mm.exact))) {
+  if (steady && (!mm.recipe->turns_a_crank() || !(mm.rod || mm.exact))) {
     throw InputError(
         "sim.start", "steady",
         "needs a slider-crank with a flexible rod: the periodic steady state is found on the "
         "rod's elastic state at the crank index; use sim.settle instead");
   }
-  if (start == "steady" && cfg.Text("drive.type") != "constant") {
+  if (steady && mm.drive.type != DriveOptions::Type::kConstant) {
     throw InputError(
         "sim.start", "steady",
         "needs drive.type = constant (a periodic state has the crank's period; a motor's speed "
@@ -254,6 +254,7 @@ void CheckRunInput(const Config& cfg, const MechanismModel& mm) {
     (void)InterfaceNodes("modes.interface", cfg.Text("modes.interface"), rod);
   (void)ReadOutputSelection(cfg, opt.sample_rate, nullptr);
   CheckRecordFitsMemory(cfg, mm, capture * opt.sample_rate);
+  return sim;
 }
 
 }  // namespace flexrod

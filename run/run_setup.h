@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "input/config.h"
+#include "input/options.h"
 #include "mechanisms/impact_log.h"
 #include "mechanisms/mechanism_model.h"
 #include "mechanisms/recorder.h"
@@ -21,7 +22,7 @@ namespace flexrod {
 
 /// sim.* as the integrator's options (tolerances, step limit, linear solver, sample rate); the
 /// integrator's own checks, named by the user's sim.* keys.
-multibody::SimulationOptions OptionsFromConfig(const Config& cfg);
+multibody::SimulationOptions IntegratorOptions(const SimOptions& sim);
 
 /// The run's channels. `impacts` (clearance runs) also sees the contact at every sample;
 /// `gauges_json` receives each gauge's position.

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "input/options.h"
+
+#include <array>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/error.h"
+#include "common/units.h"
+
+namespace flexrod {
+namespace {
+
+std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
+  std::vector<std::pair<double, double>> knots;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const size_t colon = item.find(':');
+    if (colon == std::string::npos) {
+      throw InputError("drive.profile", text, "must be comma-separated time:speed pairs (s:rpm)");
+    }
+    const double t = ParseQuantity("drive.profile", item.substr(0, colon), Dimension::kTime);
+    const double rpm =
+        ParseQuantity("drive.profile", item.substr(colon + 1), Dimension::kDimensionless);
+    knots.emplace_back(t, rpm * 2.0 * std::numbers::pi / 60.0);
+  }
+  if (knots.size() < 2)
+    throw InputError("drive.profile", text, "needs at least two time:speed pairs");
+  for (size_t k = 1; k < knots.size(); ++k) {
+    if (!(knots[k].first > knots[k - 1].first)) {
+      throw InputError("drive.profile", text, "the times must be strictly increasing");
+    }
+  }
+  return knots;
+}
+
+/// A choice key as its enumerator: `names[i]` maps to E(i). The schema has checked the value.
+template <class E, size_t N>
+E ReadChoice(const Config& cfg, const std::string& key, const std::array<const char*, N>& names) {
+  const std::string value = cfg.Text(key);
+  for (size_t i = 0; i < N; ++i) {
+    if (value == names[i]) return static_cast<E>(i);
+  }
+  throw std::logic_error("ReadChoice: " + key + " = " + value + " is not among its enumerators");
+}
+
+}  // namespace
+
+SimOptions ReadSimOptions(const Config& cfg) {
+  SimOptions o;
+  o.sample_rate = cfg.Quantity("sim.sample_rate");
+  RequirePositive("sim.sample_rate", o.sample_rate);
+  o.rel_tol = cfg.Quantity("sim.rel_tol");
+  o.abs_tol = cfg.Quantity("sim.abs_tol");
+  o.max_step = cfg.Quantity("sim.max_step");
+  o.linear_solver = ReadChoice<SimOptions::LinearSolver>(cfg, "sim.linear_solver",
+                                                         std::array{"auto", "dense", "klu"});
+  o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
+  o.settle = cfg.Quantity("sim.settle");
+  o.capture = cfg.Quantity("sim.capture");
+  o.index_angle = cfg.Quantity("sim.index_angle");
+  o.max_steps = cfg.Integer("sim.max_steps");
+  o.max_wall_time = cfg.Quantity("sim.max_wall_time");
+  o.start =
+      ReadChoice<SimOptions::Start>(cfg, "sim.start", std::array{"rigid", "static", "steady"});
+  o.steady_revolutions = cfg.Integer("sim.steady_revolutions");
+  return o;
+}
+
+DriveOptions ReadDriveOptions(const Config& cfg) {
+  DriveOptions d;
+  d.type =
+      ReadChoice<DriveOptions::Type>(cfg, "drive.type", std::array{"constant", "profile", "motor"});
+  d.speed = cfg.Quantity("drive.speed");
+  d.initial_angle = cfg.Quantity("drive.initial_angle");
+  // Checked whenever given, and required by a profile drive.
+  const std::string profile = cfg.Text("drive.profile");
+  if (!profile.empty() || d.type == DriveOptions::Type::kProfile) d.profile = ParseProfile(profile);
+  d.motor.stall_torque = cfg.Quantity("motor.stall_torque");
+  d.motor.no_load_speed = cfg.Quantity("motor.no_load_speed");
+  d.motor.belt_ratio = cfg.Quantity("motor.belt_ratio");
+  d.motor.flywheel_inertia = cfg.Quantity("motor.flywheel_inertia");
+  return d;
+}
+
+DampingOptions ReadDampingOptions(const Config& cfg) {
+  DampingOptions d;
+  d.type = ReadChoice<DampingOptions::Type>(cfg, "damping.type",
+                                            std::array{"band", "ratio", "rayleigh"});
+  d.ratio = cfg.Quantity("damping.ratio");
+  d.alpha = cfg.Quantity("damping.alpha");
+  d.beta = cfg.Quantity("damping.beta");
+  return d;
+}
+
+}  // namespace flexrod

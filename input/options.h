@@ -1,0 +1,72 @@
+// input/options.h — the typed options of a run, each read and checked once from the keys
+// (input/config_schema.cc): sim.* (window, tolerances, start), drive.* and motor.* (the crank's
+// drive), damping.* (the rod's elastic damping). SI throughout. The other groups have their own
+// readers: output.* input/output_selection.h; rod.*, reduction.*, clamp.* mechanisms/rod_config.h;
+// joint.* mechanisms/joint_config.h; vtk.* run/vtk.h.
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "input/config.h"
+
+namespace flexrod {
+
+/// sim.*: the run's window, the integrator's tolerances and limits, the start.
+struct SimOptions {
+  enum class Start { kRigid, kStatic, kSteady };    ///< in the order of the schema's choices
+  enum class LinearSolver { kAuto, kDense, kKlu };  ///< likewise
+  Start start{Start::kRigid};
+  int steady_revolutions{100};  ///< sim.start = steady: most revolutions of the search, >= 2
+  double settle{0.0};           ///< settling time before the capture [s]
+  double capture{0.0};          ///< captured duration [s]
+  double sample_rate{0.0};      ///< [Hz]
+  double index_angle{0.0};      ///< crank angle that starts the capture [rad]
+  double rel_tol{0.0};          ///< [1]
+  double abs_tol{0.0};          ///< [m, rad, 1]
+  double max_step{0.0};         ///< [s], 0 = none
+  int max_steps{0};             ///< per integration, 0 = from the simulated time
+  double max_wall_time{0.0};    ///< [s], 0 = unlimited
+  LinearSolver linear_solver{LinearSolver::kAuto};
+  bool eliminate_prescribed{true};
+};
+
+/// Reads sim.*; throws InputError naming sim.sample_rate if it is not positive. The rules that
+/// combine keys (a capture of at least 2 samples, a steady start's drive) and the integrator's
+/// own are checked by CheckRunInput (run/run.h).
+SimOptions ReadSimOptions(const Config& cfg);
+
+/// drive.* and motor.*: the crank's drive.
+struct DriveOptions {
+  enum class Type { kConstant, kProfile, kMotor };  ///< in the order of the schema's choices
+  Type type{Type::kConstant};
+  double speed{0.0};          ///< drive.speed [rad/s]
+  double initial_angle{0.0};  ///< drive.initial_angle [rad]
+  /// drive.profile as (time [s], crank speed [rad/s]) knots, empty if not given; checked
+  /// whatever drive.type is (its rules hold whether or not it is used).
+  std::vector<std::pair<double, double>> profile;
+  struct Motor {                   ///< motor.*: the rated DC motor line
+    double stall_torque{0.0};      ///< [N m]
+    double no_load_speed{0.0};     ///< [rad/s]
+    double belt_ratio{0.0};        ///< motor speed / crank speed [1]
+    double flywheel_inertia{0.0};  ///< [kg m^2]
+  } motor;
+};
+
+/// Reads drive.* and motor.*; throws InputError naming drive.profile for a malformed profile.
+DriveOptions ReadDriveOptions(const Config& cfg);
+
+/// damping.*: the rod's elastic damping.
+struct DampingOptions {
+  enum class Type { kBand, kRatio, kRayleigh };  ///< in the order of the schema's choices
+  Type type{Type::kBand};
+  double ratio{0.0};  ///< damping.ratio [1]
+  double alpha{0.0};  ///< Rayleigh mass factor [1/s]
+  double beta{0.0};   ///< Rayleigh stiffness factor [s]
+};
+
+DampingOptions ReadDampingOptions(const Config& cfg);
+
+}  // namespace flexrod
