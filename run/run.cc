@@ -350,11 +350,12 @@ void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 }
 
-RunResult RunOne(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
-                 MechanismModel* model_out, const study::VtkOptions* vtk_options = nullptr,
-                 bool profile = false, const std::atomic<bool>* stop = nullptr) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  MechanismModel mm = BuildMechanism(cfg, std::move(rod), ideal_joint);
+/// A run of `mm`, built from `cfg` (BuildMechanism(cfg, rod, ideal_joint)); `wall0` is when
+/// its building began (sim.max_wall_time counts from there).
+RunResult RunOne(const Config& cfg, MechanismModel mm, bool ideal_joint,
+                 std::chrono::steady_clock::time_point wall0, MechanismModel* model_out,
+                 const study::VtkOptions* vtk_options = nullptr, bool profile = false,
+                 const std::atomic<bool>* stop = nullptr) {
   const multibody::Mechanism& m = mm.mechanism;
   const SimOptions sim = CheckRunInput(cfg, mm);
   multibody::InitialConditionSpec ic;
@@ -451,23 +452,26 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     vtk_options = study::VtkOptions::FromConfig(cfg);  // bad vtk.* keys fail before any work
     if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
   }
-  // The ideal-joint twin of a clearance run: same mechanism, same rod, same capture window. It
-  // needs only the rod: with a second core and no twin cache (a sweep's or study's workers
-  // already fill the cores), the rod is built first and the twin runs beside the run.
+  const auto wall0 = std::chrono::steady_clock::now();
+  MechanismModel built = BuildMechanism(cfg, std::move(rod), ideal_joint);
+  // The ideal-joint twin of a clearance run: same mechanism, same rod, same capture window. With
+  // a second core and no twin cache (a sweep's or study's workers already fill the cores), it
+  // runs beside the run, on the run's rod.
+  const bool needs_twin = built.clearance.index >= 0 && built.recipe->turns_a_crank();
+  auto run_twin = [&cfg, stop = outputs.stop](std::shared_ptr<const fem::ReducedRod> twin_rod) {
+    const auto twin_wall0 = std::chrono::steady_clock::now();
+    return std::make_shared<const RunResult>(
+        RunOne(cfg, BuildMechanism(cfg, std::move(twin_rod), true), true, twin_wall0, nullptr,
+               nullptr, false, stop));
+  };
   std::future<std::shared_ptr<const RunResult>> twin_beside;
-  if (!ideal_joint && outputs.twins == nullptr && cfg.Text("joint.type") == "clearance" &&
-      FindRecipe(cfg.Text("mechanism.type")).turns_a_crank() &&
-      std::thread::hardware_concurrency() > 1) {
-    if (!rod && cfg.Text("rod.type") == "flexible") rod = BuildReducedRod(cfg);
-    CheckRunInput(cfg, BuildMechanism(cfg, rod));  // a bad input starts no twin
-    twin_beside = std::async(std::launch::async, [cfg, rod, stop = outputs.stop] {
-      return std::make_shared<const RunResult>(
-          RunOne(cfg, rod, true, nullptr, nullptr, false, stop));
-    });
+  if (needs_twin && outputs.twins == nullptr && std::thread::hardware_concurrency() > 1) {
+    CheckRunInput(cfg, built);  // a bad input starts no twin
+    twin_beside = std::async(std::launch::async, run_twin, built.rod);
   }
   MechanismModel mm;
-  RunResult out = RunOne(cfg, rod, ideal_joint, &mm, vtk_options ? &*vtk_options : nullptr,
-                         outputs.profile, outputs.stop);
+  RunResult out = RunOne(cfg, std::move(built), ideal_joint, wall0, &mm,
+                         vtk_options ? &*vtk_options : nullptr, outputs.profile, outputs.stop);
   if (out.vtk && !outputs.vtk_dir.empty())
     out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   if (mm.clearance.index < 0 || out.channels.num_samples() < 3) return out;
@@ -475,8 +479,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   auto compute_twin = [&] {
     computed = true;
     if (twin_beside.valid()) return twin_beside.get();
-    return std::make_shared<const RunResult>(
-        RunOne(cfg, mm.rod, true, nullptr, nullptr, false, outputs.stop));
+    return run_twin(mm.rod);
   };
   const std::shared_ptr<const RunResult> twin =
       outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
