@@ -84,6 +84,84 @@ std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
   return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
 }
 
+namespace {
+
+/// The reduced rod's floating-frame body, its big-end node marker and its small-end marker
+/// (on the small-end clamp body where SmallClampIsABody), `small_offset` [m] from the last node.
+void AddReducedRodBody(const Config& cfg, const multibody::DampingSpec& damping,
+                       const Vec2& small_offset, multibody::MechanismBuilder* builder,
+                       MechanismModel* model) {
+  multibody::MechanismBuilder& b = *builder;
+  MechanismModel& out = *model;
+  const Vec2 big_offset = out.big_end_point;
+  const int last_node = out.rod->rod.num_nodes() - 1;
+  multibody::FlexibleBodySpec fs;
+  fs.name = "rod";
+  fs.rod = out.rod;
+  fs.damping = damping;
+  fs.geometric_stiffening = cfg.Bool("rod.geometric_stiffening");
+  out.conrod = b.AddFlexibleBody(fs);
+  out.big_end = b.AddNodeMarker(out.conrod, "big-end", 0, big_offset);
+  if (SmallClampIsABody(cfg)) {
+    // The small-end clamp is a rigid body welded to the last node: the bush, 17 mm off the
+    // node on the rig, then turns with the node's rotation exactly. A node marker's offset
+    // turns with it only to first order (S_u + J d S_φ), which misplaced the bush by
+    // ½ |d| φ² and dropped the offset's second-order stiffness: 8 % on the flexible rig's
+    // peak slider acceleration against the exact rod (tests/run/exact_rod_slowtest.cc).
+    out.small_clamp = b.AddRigidBody(
+        {"small-end clamp", cfg.Quantity("clamp.small_mass"), cfg.Quantity("clamp.small_inertia"),
+         Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
+    b.AddWeld("small-end clamp", b.AddNodeMarker(out.conrod, "small-end node", last_node),
+              b.AddBodyMarker(out.small_clamp, "small-end clamp origin", Vec2::Zero()));
+    out.small_end = b.AddBodyMarker(out.small_clamp, "small-end", small_offset);
+  } else {
+    out.small_end = b.AddNodeMarker(out.conrod, "small-end", last_node, small_offset);
+  }
+}
+
+/// The geometrically exact rod's node bodies and elements (multibody/exact_rod.h), with
+/// Kelvin–Voigt damping β from the Rayleigh stiffness factor (BuildMechanism refers ratio and
+/// band damping to it), and its end markers (`small_offset` [m] from the last node).
+void AddExactRodBodies(const Config& cfg, const multibody::DampingSpec& damping,
+                       const Vec2& small_offset, multibody::MechanismBuilder* b,
+                       MechanismModel* model) {
+  MechanismModel& out = *model;
+  const Vec2 big_offset = out.big_end_point;
+  if (damping.kind == multibody::DampingKind::kRayleigh && damping.rayleigh_alpha != 0.0) {
+    throw InputError("damping.alpha", FormatValue(damping.rayleigh_alpha) + " 1/s",
+                     "must be 0 with rod.type = exact: mass-proportional damping would damp the "
+                     "rod's rigid motion");
+  }
+  multibody::ExactRodSpec es;
+  es.name = "rod";
+  es.rod = RodWithClamps(cfg, true);
+  es.beta = damping.kind == multibody::DampingKind::kRayleigh ? damping.rayleigh_beta : 0.0;
+  out.exact = std::make_shared<const multibody::ExactRod>(multibody::AddExactRod(b, es));
+  out.conrod = out.exact->nodes.front();
+  out.big_end = b->AddBodyMarker(out.exact->nodes.front(), "big-end", big_offset);
+  out.small_end = b->AddBodyMarker(out.exact->nodes.back(), "small-end", small_offset);
+}
+
+/// The rigid rod: rod.rigid_mass and rod.rigid_inertia, or those of the rod's section and
+/// material (a slender bar) where they are 0.
+void AddRigidRodBody(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* model) {
+  MechanismModel& out = *model;
+  const double length = out.rod_length;
+  double mass = cfg.Quantity("rod.rigid_mass");
+  double inertia = cfg.Quantity("rod.rigid_inertia");
+  if (mass == 0.0) {
+    const fem::RodSpec spec = RodFromConfig(cfg);
+    mass = spec.material.density * spec.section.area() * length;
+  }
+  if (inertia == 0.0) inertia = mass * length * length / 12.0;
+  RequirePositive("rod.rigid_mass", mass);
+  out.conrod = b->AddRigidBody({"rod", mass, inertia, Vec2(0.5 * length, 0.0)});
+  out.big_end = b->AddBodyMarker(out.conrod, "big-end", out.big_end_point);
+  out.small_end = b->AddBodyMarker(out.conrod, "small-end", out.small_end_point);
+}
+
+}  // namespace
+
 /// One build of the mechanism; `rod_damping` (may be null: damping.* as is) is the flexible
 /// rod's damping. BuildMechanism below decides which.
 static MechanismModel BuildMechanismPass(const Config& cfg,
@@ -101,7 +179,6 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   const Vec2 big_offset(cfg.Quantity("rod.big_end_x"), cfg.Quantity("rod.big_end_y"));
   const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
   const bool exact = cfg.Text("rod.type") == "exact";
-  const int last_node = flexible ? rod->rod.num_nodes() - 1 : 0;
   // The joint points in the rod frame (undeformed).
   const Vec2 small_point = Vec2(length, 0.0) + small_offset;
   out.rod_length = length;
@@ -110,59 +187,14 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   out.effective_length = (small_point - big_offset).norm();
 
   // ---- the connecting rod ----
+  const multibody::DampingSpec damping =
+      rod_damping != nullptr ? *rod_damping : DampingSpecOf(out.damping);
   if (flexible) {
-    multibody::FlexibleBodySpec fs;
-    fs.name = "rod";
-    fs.rod = rod;
-    fs.damping = rod_damping != nullptr ? *rod_damping : DampingSpecOf(out.damping);
-    fs.geometric_stiffening = cfg.Bool("rod.geometric_stiffening");
-    out.conrod = b.AddFlexibleBody(fs);
-    out.big_end = b.AddNodeMarker(out.conrod, "big-end", 0, big_offset);
-    if (SmallClampIsABody(cfg)) {
-      // The small-end clamp is a rigid body welded to the last node: the bush, 17 mm off the
-      // node on the rig, then turns with the node's rotation exactly. A node marker's offset
-      // turns with it only to first order (S_u + J d S_φ), which misplaced the bush by
-      // ½ |d| φ² and dropped the offset's second-order stiffness: 8 % on the flexible rig's
-      // peak slider acceleration against the exact rod (tests/run/exact_rod_slowtest.cc).
-      out.small_clamp = b.AddRigidBody(
-          {"small-end clamp", cfg.Quantity("clamp.small_mass"), cfg.Quantity("clamp.small_inertia"),
-           Vec2(cfg.Quantity("clamp.small_com_x"), cfg.Quantity("clamp.small_com_y"))});
-      b.AddWeld("small-end clamp", b.AddNodeMarker(out.conrod, "small-end node", last_node),
-                b.AddBodyMarker(out.small_clamp, "small-end clamp origin", Vec2::Zero()));
-      out.small_end = b.AddBodyMarker(out.small_clamp, "small-end", small_offset);
-    } else {
-      out.small_end = b.AddNodeMarker(out.conrod, "small-end", last_node, small_offset);
-    }
+    AddReducedRodBody(cfg, damping, small_offset, &b, &out);
   } else if (exact) {
-    // The geometrically exact rod (multibody/exact_rod.h): Kelvin–Voigt damping β from the
-    // Rayleigh stiffness factor (BuildMechanism refers ratio and band damping to it).
-    const multibody::DampingSpec damping =
-        rod_damping != nullptr ? *rod_damping : DampingSpecOf(out.damping);
-    if (damping.kind == multibody::DampingKind::kRayleigh && damping.rayleigh_alpha != 0.0) {
-      throw InputError("damping.alpha", FormatValue(damping.rayleigh_alpha) + " 1/s",
-                       "must be 0 with rod.type = exact: mass-proportional damping would damp the "
-                       "rod's rigid motion");
-    }
-    multibody::ExactRodSpec es;
-    es.name = "rod";
-    es.rod = RodWithClamps(cfg, true);
-    es.beta = damping.kind == multibody::DampingKind::kRayleigh ? damping.rayleigh_beta : 0.0;
-    out.exact = std::make_shared<const multibody::ExactRod>(multibody::AddExactRod(&b, es));
-    out.conrod = out.exact->nodes.front();
-    out.big_end = b.AddBodyMarker(out.exact->nodes.front(), "big-end", big_offset);
-    out.small_end = b.AddBodyMarker(out.exact->nodes.back(), "small-end", small_offset);
+    AddExactRodBodies(cfg, damping, small_offset, &b, &out);
   } else {
-    double mass = cfg.Quantity("rod.rigid_mass");
-    double inertia = cfg.Quantity("rod.rigid_inertia");
-    if (mass == 0.0) {
-      const fem::RodSpec spec = RodFromConfig(cfg);
-      mass = spec.material.density * spec.section.area() * length;
-    }
-    if (inertia == 0.0) inertia = mass * length * length / 12.0;
-    RequirePositive("rod.rigid_mass", mass);
-    out.conrod = b.AddRigidBody({"rod", mass, inertia, Vec2(0.5 * length, 0.0)});
-    out.big_end = b.AddBodyMarker(out.conrod, "big-end", big_offset);
-    out.small_end = b.AddBodyMarker(out.conrod, "small-end", small_point);
+    AddRigidRodBody(cfg, &b, &out);
   }
 
   if (cfg.Bool("gravity.enabled"))
