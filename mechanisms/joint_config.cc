@@ -79,13 +79,10 @@ std::string SourceOf(const Config& cfg, const std::string& key) {
   return cfg.IsSet(key) ? "input" : "default";
 }
 
-}  // namespace
-
-ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_effective_mass) {
-  ClearanceJointConfig jc;
+/// joint.clearance, joint.bush_radius, joint.length: the pin-in-bush geometry, checked.
+void ResolveGeometry(const Config& cfg, ClearanceJointConfig* joint) {
+  ClearanceJointConfig& jc = *joint;
   std::vector<contact::ResolvedParameter>& rec = jc.parameters;
-
-  // ---- geometry ----
   const double clearance = cfg.Quantity("joint.clearance");
   const double bush_radius = cfg.Quantity("joint.bush_radius");
   const double length = cfg.Quantity("joint.length");
@@ -103,8 +100,12 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
   Add(&rec, "joint.clearance", clearance, "m", SourceOf(cfg, "joint.clearance"));
   Add(&rec, "joint.pin_radius", jc.geometry.pin_radius, "m", "derived");
   Add(&rec, "joint.length", length, "m", SourceOf(cfg, "joint.length"));
+}
 
-  // ---- materials ----
+/// The pin's and bush's materials and the restitution, checked.
+void ResolveMaterials(const Config& cfg, ClearanceJointConfig* joint) {
+  ClearanceJointConfig& jc = *joint;
+  std::vector<contact::ResolvedParameter>& rec = jc.parameters;
   const double restitution = cfg.Quantity("joint.restitution");
   Require(std::isfinite(restitution) && restitution > 0.0 && restitution <= 1.0,
           "joint.restitution", restitution, "the coefficient of restitution must lie in (0, 1]");
@@ -120,8 +121,14 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
   Add(&rec, "joint.pin_nu", pin.poisson_ratio, "1", "derived");
   Add(&rec, "joint.bush_E", bush.youngs_modulus, "Pa", "derived");
   Add(&rec, "joint.bush_nu", bush.poisson_ratio, "1", "derived");
+}
 
-  // ---- normal law ----
+/// joint.law with its overrides (0 = derived), the effective mass from the slider where the
+/// law takes one and the input leaves it out.
+void ResolveNormal(const Config& cfg, double default_effective_mass, ClearanceJointConfig* joint) {
+  ClearanceJointConfig& jc = *joint;
+  std::vector<contact::ResolvedParameter>& rec = jc.parameters;
+  const double restitution = jc.materials.restitution;
   const std::string law = cfg.Text("joint.law");
   const std::vector<std::string>& accepted = Rekeyed(
       [&]() -> const std::vector<std::string>& { return contact::NormalLawParameterKeys(law); });
@@ -152,8 +159,12 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
     if (p.name == "restitution" && !cfg.IsSet("joint.restitution")) p.source = "default";
     Add(&rec, "joint.law." + p.name, p.value, p.unit, p.source);
   }
+}
 
-  // ---- friction ----
+/// joint.friction_law with joint.friction (none: no friction law).
+void ResolveFriction(const Config& cfg, ClearanceJointConfig* joint) {
+  ClearanceJointConfig& jc = *joint;
+  std::vector<contact::ResolvedParameter>& rec = jc.parameters;
   const std::string friction = cfg.Text("joint.friction_law");
   if (friction != "none") {
     const double mu = cfg.Quantity("joint.friction");
@@ -169,6 +180,16 @@ ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_eff
       Add(&rec, "joint.friction_law." + p.name, p.value, p.unit, p.source);
     }
   }
+}
+
+}  // namespace
+
+ClearanceJointConfig ResolveClearanceJoint(const Config& cfg, double default_effective_mass) {
+  ClearanceJointConfig jc;
+  ResolveGeometry(cfg, &jc);
+  ResolveMaterials(cfg, &jc);
+  ResolveNormal(cfg, default_effective_mass, &jc);
+  ResolveFriction(cfg, &jc);
   return jc;
 }
 

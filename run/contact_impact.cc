@@ -42,23 +42,22 @@ const std::vector<ContactLawFlag>& ContactLawFlags() {
   return kFlags;
 }
 
-ContactImpact SimulateContactImpact(const ContactRequest& opt) {
-  // ---- parse and validate everything before any work ----
+namespace {
+
+/// Throws InputError unless `law` is a normal contact law's name.
+void CheckLawName(const std::string& law) {
   const auto& names = contact::NormalLawNames();
-  if (std::find(names.begin(), names.end(), opt.law) == names.end()) {
+  if (std::find(names.begin(), names.end(), law) == names.end()) {
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InputError("law", "\"" + opt.law + "\"",
+    throw InputError("law", "\"" + law + "\"",
                      "unknown normal contact law; must be one of: " + list);
   }
-  ContactImpact out;
-  out.law = opt.law;
-  const double mass = out.mass = ParseQuantity("mass", opt.mass, Dimension::kMass);
-  const double velocity = out.velocity =
-      ParseQuantity("velocity", opt.velocity, Dimension::kVelocity);
-  RequirePositive("mass", mass);
-  RequirePositive("velocity", velocity);
+}
 
+/// --pin-E, --bush-E, --pin-nu, --bush-nu (steel where not given) and the pin-in-bush geometry.
+void ReadMaterialsAndGeometry(const ContactRequest& opt, ContactImpact* impact) {
+  ContactImpact& out = *impact;
   const fem::Material steel = fem::MaterialByName("steel");
   contact::ContactMaterials& materials = out.materials;
   materials.pin_youngs_modulus = opt.pin_E.empty()
@@ -77,7 +76,11 @@ ContactImpact SimulateContactImpact(const ContactRequest& opt) {
   geometry.bush_radius = ParseQuantity("bush-radius", opt.bush_radius, Dimension::kLength);
   geometry.pin_radius = ParseQuantity("pin-radius", opt.pin_radius, Dimension::kLength);
   geometry.length = ParseQuantity("length", opt.length, Dimension::kLength);
+}
 
+/// The law's parameters given as flags, in SI; the impacting mass [kg] and speed [m/s] calibrate
+/// the laws that take them where the flags leave them out.
+contact::ParameterMap ReadLawOverrides(const ContactRequest& opt, double mass, double velocity) {
   contact::ParameterMap overrides;
   for (const auto& [key, text] : opt.law_params) {
     Dimension dim = Dimension::kDimensionless;
@@ -113,19 +116,44 @@ ContactImpact SimulateContactImpact(const ContactRequest& opt) {
   if (takes("calibration-velocity") && !overrides.count("calibration-velocity")) {
     overrides["calibration-velocity"] = velocity;
   }
-  const contact::ResolvedNormalLaw resolved = [&] {
-    try {
-      return contact::ResolveNormalLaw(opt.law, materials, geometry, overrides);
-    } catch (const InputError& e) {
-      // The contact layer names its inputs contact.pin_radius, contact.bush_E, ...: report the
-      // flag (pin-radius, bush-E, ...; the clearance is set through --pin-radius).
-      std::string key = e.key();
-      if (key.rfind("contact.", 0) != 0) throw;
-      key = key == "contact.clearance" ? "pin-radius" : key.substr(8);
-      std::replace(key.begin(), key.end(), '_', '-');
-      throw InputError(key, e.value(), e.rule());
-    }
-  }();
+  return overrides;
+}
+
+/// The law resolved from materials and geometry; the contact layer's key names (contact.bush_E,
+/// ...) reported as the command's flags (bush-E, ...).
+contact::ResolvedNormalLaw ResolveForFlags(const std::string& law,
+                                           const contact::ContactMaterials& materials,
+                                           const contact::ContactGeometry& geometry,
+                                           const contact::ParameterMap& overrides) {
+  try {
+    return contact::ResolveNormalLaw(law, materials, geometry, overrides);
+  } catch (const InputError& e) {
+    // The contact layer names its inputs contact.pin_radius, contact.bush_E, ...: report the
+    // flag (pin-radius, bush-E, ...; the clearance is set through --pin-radius).
+    std::string key = e.key();
+    if (key.rfind("contact.", 0) != 0) throw;
+    key = key == "contact.clearance" ? "pin-radius" : key.substr(8);
+    std::replace(key.begin(), key.end(), '_', '-');
+    throw InputError(key, e.value(), e.rule());
+  }
+}
+
+}  // namespace
+
+ContactImpact SimulateContactImpact(const ContactRequest& opt) {
+  // ---- parse and validate everything before any work ----
+  CheckLawName(opt.law);
+  ContactImpact out;
+  out.law = opt.law;
+  const double mass = out.mass = ParseQuantity("mass", opt.mass, Dimension::kMass);
+  const double velocity = out.velocity =
+      ParseQuantity("velocity", opt.velocity, Dimension::kVelocity);
+  RequirePositive("mass", mass);
+  RequirePositive("velocity", velocity);
+  ReadMaterialsAndGeometry(opt, &out);
+  const contact::ParameterMap overrides = ReadLawOverrides(opt, mass, velocity);
+  const contact::ResolvedNormalLaw resolved =
+      ResolveForFlags(opt.law, out.materials, out.geometry, overrides);
   out.parameters = resolved.parameters;
 
   // ---- work ----

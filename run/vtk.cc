@@ -286,7 +286,6 @@ void VtkRecorder::LayOutSliderCrank(const Config& cfg, int* next_point) {
 VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
   const multibody::Mechanism& m = model_.mechanism;
   const VtkLayout& L = series_.layout;
-  const double scale = series_.options.scale;
   const double* y = s.y();
   VtkFrame f;
   f.time = s.t();
@@ -302,6 +301,22 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
   const int n = model_.rod ? model_.rod->num_coordinates() : 0;
   Vec q = Vec::Zero(n);
   if (n > 0) q = Eigen::Map<const Vec>(y + m.coordinate(model_.conrod, multibody::kFirstMode), n);
+  DrawCarriedPoints(R, A, q, &f);
+  if (model_.small_clamp.index >= 0 || exact_) {
+    f.points[L.small_end] = s.Marker(model_.small_end).position;
+  }
+  if (exact_) DrawExactRod(y, &f);
+  if (model_.crank.is_ground()) {  // no crank, no slider (the pendulum)
+    f.crank_angle = std::numeric_limits<double>::quiet_NaN();
+    return f;
+  }
+  DrawCrankAndSlider(s, &f);
+  return f;
+}
+
+void VtkRecorder::DrawCarriedPoints(const Vec2& R, const Mat2& A, const Vec& q, VtkFrame* f) const {
+  const VtkLayout& L = series_.layout;
+  const double scale = series_.options.scale;
   // Elastic displacement d = S_u q in B, split into the chord part d_c (linear between the
   // displacements of the rod's end nodes a and b, by the position along the undeformed chord)
   // and the deflection d − d_c; only the deflection is scaled, so both rod ends stay on their
@@ -319,63 +334,64 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
     const Vec2 dc = (1.0 - xi) * da + xi * db;
     // Centre-line nodes scaled; the joint points on the clamp arms drawn where they are.
     const double si = i >= chord_first_ && i <= chord_last_ ? scale : 1.0;
-    f.points[c.index] = R + A * (c.u0 + dc + si * (d - dc));
-    f.displacement[c.index] = (d - dc).norm();
+    f->points[c.index] = R + A * (c.u0 + dc + si * (d - dc));
+    f->displacement[c.index] = (d - dc).norm();
   }
-  if (model_.small_clamp.index >= 0 || exact_) {
-    f.points[L.small_end] = s.Marker(model_.small_end).position;
-  }
-  if (exact_) {
-    // Node k drawn at its chord point (the end nodes' chord at k/N) plus `scale` times its
-    // deflection from it; stresses from the elements' exact strains at the node.
-    const int N = L.rod_count - 1;
-    const Vec2 a = exact_->NodePosition(y, 0), b = exact_->NodePosition(y, N);
-    for (int k = 0; k <= N; ++k) {
-      const Vec2 p = exact_->NodePosition(y, k);
-      const Vec2 c = a + (static_cast<double>(k) / N) * (b - a);
-      f.points[L.rod_first + k] = c + scale * (p - c);
-      f.displacement[L.rod_first + k] = (p - c).norm();
-      const double x = model_.exact->rod.node_x(k);
-      const double axial = exact_->Strain(y, x, 0.0);
-      f.axial_stress[L.rod_first + k] = exact_E_ * axial;
-      f.bending_stress[L.rod_first + k] = exact_E_ * (exact_->Strain(y, x, exact_fibre_) - axial);
-    }
-  }
-  if (n > 0) {
+  if (q.size() > 0) {
     const Vec axial = axial_rows_ * q, bending = bending_rows_ * q;
     for (int k = 0; k < L.rod_count; ++k) {
-      f.axial_stress[L.rod_first + k] = axial[k];
+      f->axial_stress[L.rod_first + k] = axial[k];
       if (!axial_quadratic_.empty())
-        f.axial_stress[L.rod_first + k] += q.dot(axial_quadratic_[k] * q);
-      f.bending_stress[L.rod_first + k] = bending[k];
+        f->axial_stress[L.rod_first + k] += q.dot(axial_quadratic_[k] * q);
+      f->bending_stress[L.rod_first + k] = bending[k];
     }
   }
-  if (model_.crank.is_ground()) {  // no crank, no slider (the pendulum)
-    f.crank_angle = std::numeric_limits<double>::quiet_NaN();
-    return f;
+}
+
+void VtkRecorder::DrawExactRod(const double* y, VtkFrame* f) const {
+  const VtkLayout& L = series_.layout;
+  const double scale = series_.options.scale;
+  // Node k drawn at its chord point (the end nodes' chord at k/N) plus `scale` times its
+  // deflection from it; stresses from the elements' exact strains at the node.
+  const int N = L.rod_count - 1;
+  const Vec2 a = exact_->NodePosition(y, 0), b = exact_->NodePosition(y, N);
+  for (int k = 0; k <= N; ++k) {
+    const Vec2 p = exact_->NodePosition(y, k);
+    const Vec2 c = a + (static_cast<double>(k) / N) * (b - a);
+    f->points[L.rod_first + k] = c + scale * (p - c);
+    f->displacement[L.rod_first + k] = (p - c).norm();
+    const double x = model_.exact->rod.node_x(k);
+    const double axial = exact_->Strain(y, x, 0.0);
+    f->axial_stress[L.rod_first + k] = exact_E_ * axial;
+    f->bending_stress[L.rod_first + k] = exact_E_ * (exact_->Strain(y, x, exact_fibre_) - axial);
   }
-  f.crank_angle = y[m.coordinate(model_.crank, multibody::kTheta)];
+}
+
+void VtkRecorder::DrawCrankAndSlider(const multibody::SampleView& s, VtkFrame* f) const {
+  const multibody::Mechanism& m = model_.mechanism;
+  const VtkLayout& L = series_.layout;
+  const double* y = s.y();
+  f->crank_angle = y[m.coordinate(model_.crank, multibody::kTheta)];
   // The crank: axis (frame origin of the crank body) to the pin.
-  f.points[L.crank_axis] = Vec2(y[m.coordinate(model_.crank, multibody::kX)],
-                                y[m.coordinate(model_.crank, multibody::kY)]);
-  f.points[L.crank_pin] = s.Marker(model_.crank_pin).position;
+  f->points[L.crank_axis] = Vec2(y[m.coordinate(model_.crank, multibody::kX)],
+                                 y[m.coordinate(model_.crank, multibody::kY)]);
+  f->points[L.crank_pin] = s.Marker(model_.crank_pin).position;
   // The slider: a rectangle centred on the journal, aligned with the journal marker.
   const multibody::MarkerKinematics& journal = s.Marker(model_.journal);
   const Mat2 As = Rotation(journal.angle);
   const double a = slider_half_length_, b = slider_half_height_;
   const Vec2 corners[4] = {Vec2(-a, -b), Vec2(a, -b), Vec2(a, b), Vec2(-a, b)};
-  for (int i = 0; i < 4; ++i) f.points[L.slider_first + i] = journal.position + As * corners[i];
+  for (int i = 0; i < 4; ++i) f->points[L.slider_first + i] = journal.position + As * corners[i];
   // Clearance joint: bush and pin circles at their true centres.
   if (L.bush_first >= 0) {
     const Vec2 bush_centre = s.Marker(model_.small_end).position;
     for (int i = 0; i < L.circle_points; ++i) {
       const double phi = 2.0 * std::numbers::pi * i / L.circle_points;
       const Vec2 u(std::cos(phi), std::sin(phi));
-      f.points[L.bush_first + i] = bush_centre + bush_radius_ * u;
-      f.points[L.pin_first + i] = journal.position + pin_radius_ * u;
+      f->points[L.bush_first + i] = bush_centre + bush_radius_ * u;
+      f->points[L.pin_first + i] = journal.position + pin_radius_ * u;
     }
   }
-  return f;
 }
 
 void VtkRecorder::Offer(long k, const multibody::SampleView& sample) {

@@ -120,6 +120,12 @@ class VtkRecorder {
   void LayOutReducedRod(const Config& cfg, int* next_point);
   void LayOutExactRod(int* next_point);
   void LayOutSliderCrank(const Config& cfg, int* next_point);
+  // CalcFrame's parts: the points the rod's frame carries (any rod; `q` the reduced rod's
+  // elastic coordinates, with its stresses), the exact rod's nodes and stresses, the crank and
+  // slider with the clearance joint's circles.
+  void DrawCarriedPoints(const Vec2& R, const Mat2& A, const Vec& q, VtkFrame* f) const;
+  void DrawExactRod(const double* y, VtkFrame* f) const;
+  void DrawCrankAndSlider(const multibody::SampleView& s, VtkFrame* f) const;
 
   const MechanismModel& model_;
   VtkSeries series_;

@@ -13,7 +13,7 @@ import h5py
 import numpy as np
 
 TIMES = re.compile(r"(wall|cpu|seconds|elapsed|output_time)", re.I)
-PRINTED_TIME = re.compile(rb"[0-9.]+ ?(ms|s)\b")
+PRINTED_TIME = re.compile(rb"[0-9.]+ ?(ms|s|MB)\b")
 
 
 def h5_items(path):

@@ -267,6 +267,99 @@ const std::vector<ComparisonDef>& ThesisComparisons() {
   return defs;
 }
 
+namespace {
+
+/// One item of a comparison over the stored runs: its points (turning points of the positive or
+/// negative slider acceleration), their median, p95 and maximum |a| [m/s^2], its runs and
+/// failures; `by_speed` receives the |a| of its points per crank speed for the bootstrap.
+ItemResult CollectItem(const ComparisonItem& item, bool positive,
+                       const std::vector<StoredRun>& runs, const std::vector<RunFacts>& facts,
+                       BySpeed* by_speed_out) {
+  BySpeed& by_speed = *by_speed_out;
+  ItemResult ir;
+  ir.item = item;
+  std::vector<double> magnitudes;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    if (!Matches(item, facts[r])) continue;
+    if (!runs[r].ok()) {
+      ++ir.num_failed;
+      continue;
+    }
+    ++ir.num_runs;
+    const StoredPoints& p = positive ? runs[r].positive : runs[r].negative;
+    for (std::size_t k = 0; k < p.value.size(); ++k) {
+      ir.points.push_back({runs[r].id, facts[r].speed, p.crank_angle[k], p.value[k]});
+      magnitudes.push_back(std::abs(p.value[k]));
+      by_speed[facts[r].speed].push_back(std::abs(p.value[k]));
+    }
+  }
+  if (magnitudes.empty()) {
+    ir.median = ir.median_low = ir.median_high = ir.p95 = ir.max = kNaN;
+  } else {
+    std::sort(magnitudes.begin(), magnitudes.end());
+    ir.median = PercentileOfSorted(magnitudes, 50.0);
+    ir.p95 = PercentileOfSorted(magnitudes, 95.0);
+    ir.max = magnitudes.back();
+  }
+  return ir;
+}
+
+/// The bootstrap intervals of the items' medians and of each adjacent gap of the ranking;
+/// `res.resolved` false where a gap's interval reaches 0, each such gap described in the
+/// returned text.
+std::string ResolveRanking(const std::vector<BySpeed>& by_speed_of_item, ComparisonResult* result) {
+  ComparisonResult& res = *result;
+  std::string overlap;
+  if (res.evaluable) {
+    const BootstrapResult boot = PairedBootstrap(by_speed_of_item, res.ranking);
+    for (std::size_t i = 0; i < res.items.size(); ++i) {
+      if (res.items[i].points.empty()) continue;
+      std::tie(res.items[i].median_low, res.items[i].median_high) = boot.item_interval[i];
+    }
+    for (std::size_t k = 0; k + 1 < res.ranking.size(); ++k) {
+      const ItemResult& hi = res.items[static_cast<std::size_t>(res.ranking[k])];
+      const ItemResult& lo = res.items[static_cast<std::size_t>(res.ranking[k + 1])];
+      const auto [gap_low, gap_high] = boot.gap_interval[k];
+      res.gap_low.push_back(gap_low);
+      if (!(gap_low > 0.0)) {
+        res.resolved = false;
+        overlap += std::string(overlap.empty() ? "" : "; ") + hi.item.label + " − " +
+                   lo.item.label +
+                   Format(" = %.3g [%.3g, %.3g]", hi.median - lo.median, gap_low, gap_high);
+      }
+    }
+  }
+  return overlap;
+}
+
+/// The verdict line of a comparison: the thesis's trend and what the model says of it.
+std::string VerdictLine(const ComparisonResult& res, const std::vector<int>& expected,
+                        const std::string& overlap) {
+  const ComparisonDef& def = res.def;
+  std::string line = "Thesis trend: " + def.trend + ". Thesis: " + def.thesis_note + ". Model: ";
+  if (!res.evaluable) {
+    line += "not evaluable (fewer than two of its rods have turning points in this store).";
+  } else if (!res.resolved) {
+    line +=
+        "not resolved: the 95 % interval of the difference of medians (bootstrap over the "
+        "speeds) includes 0: " +
+        overlap + " m/s^2; the medians alone would say the trend " +
+        (res.trend_holds ? "holds." : "does not hold.");
+  } else if (res.trend_holds) {
+    line += std::string("holds") +
+            (res.trend_holds_p95 ? " (median and 95th percentile)"
+                                 : " by the median, not by the 95th percentile") +
+            ": " + OrderText(res.items, res.ranking) + ".";
+  } else {
+    line += "does not hold: " + OrderText(res.items, res.ranking) + " by the median (expected " +
+            OrderText(res.items, expected) + ")" +
+            (res.trend_holds_p95 ? ", but holds by the 95th percentile." : ".");
+  }
+  return line;
+}
+
+}  // namespace
+
 std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& defs,
                                              const std::vector<StoredRun>& runs) {
   std::vector<RunFacts> facts;
@@ -278,33 +371,8 @@ std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& d
     res.def = def;
     std::vector<BySpeed> by_speed_of_item;
     for (const ComparisonItem& item : def.items) {
-      ItemResult ir;
-      ir.item = item;
-      std::vector<double> magnitudes;
-      BySpeed& by_speed = by_speed_of_item.emplace_back();
-      for (std::size_t r = 0; r < runs.size(); ++r) {
-        if (!Matches(item, facts[r])) continue;
-        if (!runs[r].ok()) {
-          ++ir.num_failed;
-          continue;
-        }
-        ++ir.num_runs;
-        const StoredPoints& p = def.positive ? runs[r].positive : runs[r].negative;
-        for (std::size_t k = 0; k < p.value.size(); ++k) {
-          ir.points.push_back({runs[r].id, facts[r].speed, p.crank_angle[k], p.value[k]});
-          magnitudes.push_back(std::abs(p.value[k]));
-          by_speed[facts[r].speed].push_back(std::abs(p.value[k]));
-        }
-      }
-      if (magnitudes.empty()) {
-        ir.median = ir.median_low = ir.median_high = ir.p95 = ir.max = kNaN;
-      } else {
-        std::sort(magnitudes.begin(), magnitudes.end());
-        ir.median = PercentileOfSorted(magnitudes, 50.0);
-        ir.p95 = PercentileOfSorted(magnitudes, 95.0);
-        ir.max = magnitudes.back();
-      }
-      res.items.push_back(std::move(ir));
+      res.items.push_back(
+          CollectItem(item, def.positive, runs, facts, &by_speed_of_item.emplace_back()));
     }
     res.ranking = RankBy(res.items, &ItemResult::median);
     const std::vector<int> by_p95 = RankBy(res.items, &ItemResult::p95);
@@ -316,46 +384,8 @@ std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& d
     res.trend_holds = res.evaluable && res.ranking == expected;
     res.trend_holds_p95 = res.evaluable && by_p95 == expected;
     res.resolved = res.evaluable;
-    std::string overlap;
-    if (res.evaluable) {
-      const BootstrapResult boot = PairedBootstrap(by_speed_of_item, res.ranking);
-      for (std::size_t i = 0; i < res.items.size(); ++i) {
-        if (res.items[i].points.empty()) continue;
-        std::tie(res.items[i].median_low, res.items[i].median_high) = boot.item_interval[i];
-      }
-      for (std::size_t k = 0; k + 1 < res.ranking.size(); ++k) {
-        const ItemResult& hi = res.items[static_cast<std::size_t>(res.ranking[k])];
-        const ItemResult& lo = res.items[static_cast<std::size_t>(res.ranking[k + 1])];
-        const auto [gap_low, gap_high] = boot.gap_interval[k];
-        res.gap_low.push_back(gap_low);
-        if (!(gap_low > 0.0)) {
-          res.resolved = false;
-          overlap += std::string(overlap.empty() ? "" : "; ") + hi.item.label + " − " +
-                     lo.item.label +
-                     Format(" = %.3g [%.3g, %.3g]", hi.median - lo.median, gap_low, gap_high);
-        }
-      }
-    }
-    std::string line = "Thesis trend: " + def.trend + ". Thesis: " + def.thesis_note + ". Model: ";
-    if (!res.evaluable) {
-      line += "not evaluable (fewer than two of its rods have turning points in this store).";
-    } else if (!res.resolved) {
-      line +=
-          "not resolved: the 95 % interval of the difference of medians (bootstrap over the "
-          "speeds) includes 0: " +
-          overlap + " m/s^2; the medians alone would say the trend " +
-          (res.trend_holds ? "holds." : "does not hold.");
-    } else if (res.trend_holds) {
-      line += std::string("holds") +
-              (res.trend_holds_p95 ? " (median and 95th percentile)"
-                                   : " by the median, not by the 95th percentile") +
-              ": " + OrderText(res.items, res.ranking) + ".";
-    } else {
-      line += "does not hold: " + OrderText(res.items, res.ranking) + " by the median (expected " +
-              OrderText(res.items, expected) + ")" +
-              (res.trend_holds_p95 ? ", but holds by the 95th percentile." : ".");
-    }
-    res.verdict = line;
+    const std::string overlap = ResolveRanking(by_speed_of_item, &res);
+    res.verdict = VerdictLine(res, expected, overlap);
     results.push_back(std::move(res));
   }
   return results;
