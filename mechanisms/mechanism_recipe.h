@@ -9,6 +9,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,18 @@ class MechanismRecipe {
                              multibody::InitialConditionSpec* ic,
                              multibody::SimulationOptions* opt) const = 0;
 };
+
+/// Parts a recipe with a driven crank shares. The crank (crank.*) on its ground pivot at the
+/// origin, its pin at crank.length along its x axis, the rod's big end on the pin
+/// (MechanismModel::crank, crank_pin, crank_pivot_joint, big_end_joint, crank_length).
+void AddDrivenCrankParts(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* out);
+/// The crank's drive of MechanismModel::drive: constant speed, speed profile or DC motor.
+void AddCrankDrive(multibody::MechanismBuilder* b, MechanismModel* out);
+/// The channels crank_angle [rad], crank_speed [rad/s] and crank_torque [N m] (the drive's).
+void AddCrankChannels(const MechanismModel& mm, Recorder* rec);
+/// p0 = pose(θ0) and v0 = ω0 dpose/dθ at θ0 = drive.initial_angle, with `pose` the mechanism's
+/// rigid-motion coordinates at a crank angle [rad].
+void SetCrankRigidMotion(const std::function<Vec(double)>& pose, MechanismModel* out);
 
 /// The recipe of mechanism.type = `type` (a value the schema accepts).
 const MechanismRecipe& FindRecipe(const std::string& type);

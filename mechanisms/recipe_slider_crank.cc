@@ -21,19 +21,6 @@ using multibody::SampleView;
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-/// The crank on its ground pivot, the rod's big end on its pin.
-void AddCrank(const Config& cfg, multibody::MechanismBuilder* b, MechanismModel* out) {
-  const double r = cfg.Quantity("crank.length");
-  out->crank_length = r;
-  out->crank = b->AddRigidBody(
-      {"crank", cfg.Quantity("crank.mass"), cfg.Quantity("crank.inertia"), Vec2::Zero()});
-  const MarkerId origin = b->AddGroundMarker("ground-axis", Vec2::Zero());
-  const MarkerId crank_axis = b->AddBodyMarker(out->crank, "crank-axis", Vec2::Zero());
-  out->crank_pin = b->AddBodyMarker(out->crank, "crank-pin", Vec2(r, 0.0));
-  out->crank_pivot_joint = b->AddRevolute("crank-pivot", origin, crank_axis);
-  out->big_end_joint = b->AddRevolute("big-end", out->crank_pin, out->big_end);
-}
-
 /// The slider on its guide, and the small-end joint between the rod's bush and its pin.
 void AddSliderAndJoint(const Config& cfg, bool ideal_joint, multibody::MechanismBuilder* b,
                        MechanismModel* out) {
@@ -71,51 +58,6 @@ void AddSliderAndJoint(const Config& cfg, bool ideal_joint, multibody::Mechanism
   }
 }
 
-/// DC motor on armature-voltage (SCR) control: motor.* is the rated line, T = T_s (1 − ω/ω₀)
-/// at full voltage. A DC motor's torque line at armature voltage V is T = (k/R)(V − k ω): the
-/// slope k²/R = T_s/ω₀ is the motor's, the no-load speed scales with V. The SCR is set so that
-/// the no-load crank speed is drive.speed (V/V_rated = belt ratio · drive.speed / ω₀); under
-/// load the mean speed droops by the mean load torque / slope, and impacts make it fluctuate
-/// through the flywheel.
-multibody::DcMotorSpec MotorOf(const DriveOptions& drive) {
-  multibody::DcMotorSpec m;
-  const double rated_stall = drive.motor.stall_torque;
-  const double rated_no_load = drive.motor.no_load_speed;
-  m.ratio = drive.motor.belt_ratio;
-  const double w = drive.speed;
-  const double voltage_fraction = m.ratio * w / rated_no_load;
-  if (voltage_fraction > 1.0 + 1e-12) {
-    throw InputError(
-        "drive.speed", FormatValue(w) + " rad/s",
-        "with drive.type = motor must be at most motor.no_load_speed / motor.belt_ratio = " +
-            FormatValue(rated_no_load / m.ratio) +
-            " rad/s: the no-load speed at full armature voltage");
-  }
-  m.stall_torque = voltage_fraction * rated_stall;
-  m.no_load_speed = voltage_fraction * rated_no_load;  // = belt ratio · drive.speed
-  m.flywheel_inertia = drive.motor.flywheel_inertia;
-  m.Validate("motor");
-  return m;
-}
-
-/// The crank's drive: constant speed, speed profile or DC motor (drive.type).
-void AddDrive(multibody::MechanismBuilder* b, MechanismModel* out) {
-  const DriveOptions& drive = out->drive;
-  const double theta0 = drive.initial_angle;
-  if (drive.type == DriveOptions::Type::kConstant) {
-    out->driver = b->AddConstantSpeedDriver("drive", out->crank, theta0, drive.speed);
-  } else if (drive.type == DriveOptions::Type::kProfile) {
-    std::vector<double> times, speeds;
-    for (const auto& [t, w] : drive.profile) {
-      times.push_back(t);
-      speeds.push_back(w);
-    }
-    out->driver = b->AddSpeedProfileDriver("drive", out->crank, theta0, times, speeds);
-  } else {
-    out->driver = b->AddDcMotorDriver("drive", out->crank, MotorOf(drive));
-  }
-}
-
 /// p0 and v0: the rigid motion's configuration and velocity at crank angle drive.initial_angle.
 void SetRigidMotion(const Config& cfg, MechanismModel* out) {
   const multibody::Mechanism& mech = out->mechanism;
@@ -133,14 +75,7 @@ void SetRigidMotion(const Config& cfg, MechanismModel* out) {
     p[mech.coordinate(out->slider, multibody::kY)] = S.y();
     return p;
   };
-  const double theta0 = out->drive.initial_angle;
-  out->p0 = rigid_pose(theta0);
-  // v = ω dp/dθ by a central difference (h = 1e-6 rad: error ~1e-12 relative).
-  // Constant drive and motor start at drive.speed (the motor at its no-load speed), a speed
-  // profile at rest: the profile's driver constraint sets its own velocity.
-  const double w0 = out->drive.type == DriveOptions::Type::kProfile ? 0.0 : out->drive.speed;
-  constexpr double kH = 1e-6;
-  out->v0 = w0 * (rigid_pose(theta0 + kH) - rigid_pose(theta0 - kH)) / (2.0 * kH);
+  SetCrankRigidMotion(rigid_pose, out);
 }
 
 class SliderCrank final : public MechanismRecipe {
@@ -150,9 +85,9 @@ class SliderCrank final : public MechanismRecipe {
 
   void Build(const Config& cfg, bool ideal_joint, multibody::MechanismBuilder* b,
              MechanismModel* out) const override {
-    AddCrank(cfg, b, out);
+    AddDrivenCrankParts(cfg, b, out);
     AddSliderAndJoint(cfg, ideal_joint, b, out);
-    AddDrive(b, out);
+    AddCrankDrive(b, out);
     out->mechanism = b->Build();
     SetRigidMotion(cfg, out);
   }
@@ -174,12 +109,7 @@ void SliderCrank::DefineChannels(const MechanismModel& mm, Recorder* rec,
   const multibody::Mechanism& m = mm.mechanism;
   const int crank_theta = m.coordinate(mm.crank, multibody::kTheta);
   const int sx = m.coordinate(mm.slider, multibody::kX);
-  rec->Add({{"crank_angle", "rad"}, {"crank_speed", "rad/s"}, {"crank_torque", "N*m"}},
-           [=, driver = mm.driver](const SampleView& s, double* v) {
-             v[0] = s.coordinate(crank_theta);
-             v[1] = s.velocity(crank_theta);
-             v[2] = s.Driver(driver).torque;
-           });
+  AddCrankChannels(mm, rec);
   rec->Add({{"slider_position", "m"}, {"slider_velocity", "m/s"}, {"slider_acceleration", "m/s^2"}},
            [=](const SampleView& s, double* v) {
              v[0] = s.coordinate(sx);

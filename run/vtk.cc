@@ -193,7 +193,8 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
   for (int k = 0; k < L.rod_count; ++k) rod_line[k] = L.rod_first + k;
   L.cells.push_back({kVtkPolyLine, VtkPart::kRod, rod_line});
   L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.big_end, L.rod_first}});
-  if (!model.crank.is_ground()) LayOutSliderCrank(cfg, &next);  // crank, slider, joint
+  // crank, slider, joint; a mechanism without a slider (the pendulum, the four-bar) draws its rod
+  if (!model.crank.is_ground() && !model.slider.is_ground()) LayOutSliderCrank(cfg, &next);
   L.num_points = next;
 }
 
@@ -302,11 +303,11 @@ VtkFrame VtkRecorder::CalcFrame(const multibody::SampleView& s) const {
   Vec q = Vec::Zero(n);
   if (n > 0) q = Eigen::Map<const Vec>(y + m.coordinate(model_.conrod, multibody::kFirstMode), n);
   DrawCarriedPoints(R, A, q, &f);
-  if (model_.small_clamp.index >= 0 || exact_) {
+  if (L.small_end >= 0 && (model_.small_clamp.index >= 0 || exact_)) {  // laid out with a slider
     f.points[L.small_end] = s.Marker(model_.small_end).position;
   }
   if (exact_) DrawExactRod(y, &f);
-  if (model_.crank.is_ground()) {  // no crank, no slider (the pendulum)
+  if (model_.crank.is_ground() || model_.slider.is_ground()) {  // the rod only (LayOutSliderCrank)
     f.crank_angle = std::numeric_limits<double>::quiet_NaN();
     return f;
   }

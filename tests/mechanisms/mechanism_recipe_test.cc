@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -28,13 +29,24 @@ TEST(MechanismRecipe, SchemaOffersExactlyTheRecipes) {
 }
 
 TEST(MechanismRecipe, EveryRecipeStartsOnItsConstraintsWithEveryRod) {
-  for (const char* preset : {"flexible-rig", "flexible-pendulum"}) {
+  struct Case {
+    const char* preset;
+    const char* type;  ///< mechanism.type set on the preset, or null
+  };
+  std::vector<std::string> covered;
+  for (const Case& c : {Case{"flexible-rig", nullptr}, Case{"flexible-pendulum", nullptr},
+                        Case{"flexible-rig", "four-bar"}}) {
+    const char* preset = c.preset;
     for (const char* rod : {"rigid", "flexible", "exact"}) {
       for (const char* small_mass : {"0 kg", "0.15 kg"}) {
-        SCOPED_TRACE(std::string(preset) + ", rod.type = " + rod +
-                     ", clamp.small_mass = " + small_mass);
+        SCOPED_TRACE(std::string(preset) + (c.type ? std::string(" as ") + c.type : "") +
+                     ", rod.type = " + rod + ", clamp.small_mass = " + small_mass);
         Config cfg;
         cfg.LoadToml(FindPreset(preset)->toml, preset);
+        if (c.type) {
+          cfg.Set("mechanism.type", c.type);
+          cfg.Set("joint.type", "ideal");
+        }
         cfg.Set("rod.type", rod);
         cfg.Set("rod.elements", "6");
         cfg.Set("reduction.modes", "2");
@@ -42,6 +54,7 @@ TEST(MechanismRecipe, EveryRecipeStartsOnItsConstraintsWithEveryRod) {
         cfg.Set("drive.initial_angle", "0.7");  // a general crank angle (rad)
         const MechanismModel mm = BuildMechanism(cfg, nullptr);
         ASSERT_NE(mm.recipe, nullptr);
+        covered.emplace_back(mm.recipe->name());
         EXPECT_EQ(mm.recipe->name(), cfg.Text("mechanism.type"));
         EXPECT_EQ(mm.small_clamp.index >= 0,
                   std::string(rod) == "flexible" && std::string(small_mass) != "0 kg");
@@ -58,6 +71,9 @@ TEST(MechanismRecipe, EveryRecipeStartsOnItsConstraintsWithEveryRod) {
             << "G v0 + g_t = " << gv.transpose();
       }
     }
+  }
+  for (const std::string& name : RecipeNames()) {  // a new recipe needs its case above
+    EXPECT_NE(std::find(covered.begin(), covered.end(), name), covered.end()) << name;
   }
 }
 

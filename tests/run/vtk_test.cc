@@ -301,6 +301,22 @@ TEST(VtkGeometry, PendulumDrawsTheRodAboutItsPivot) {
   EXPECT_LT(r.vtk->frames.back().points[L.rod_first + L.rod_count - 1].y(), -1e-3);
 }
 
+// Without a slider (the pendulum, the four-bar) the layout has no small-end point; an exact rod
+// or a small-end clamp body must not draw one (the exact pendulum wrote one point before the
+// frame's array: heap corruption, glibc abort at exit).
+TEST(VtkGeometry, MechanismsWithoutASliderDrawOnlyTheirRod) {
+  const Config pendulum = Preset("flexible-pendulum", {"sim.capture=0.02 s", "rod.type=exact"});
+  const Config four_bar = Preset(
+      "flexible-rig", Short({"mechanism.type=four-bar", "joint.type=ideal", "sim.start=rigid"}));
+  for (const Config& cfg : {pendulum, four_bar}) {
+    const RunResult r = RunWithFrames(cfg);
+    const VtkLayout& L = r.vtk->layout;
+    EXPECT_EQ(L.small_end, -1);
+    EXPECT_EQ(L.num_points, L.rod_count + 1);  // the rod and its big-end point
+    for (const VtkFrame& f : r.vtk->frames) EXPECT_EQ(f.points.size(), size_t(L.num_points));
+  }
+}
+
 TEST(VtkFrames, GridFollowsRateAndDuration) {
   auto frames = [](std::vector<std::string> sets) {
     const RunResult r = RunWithFrames(Preset("rigid-rig", Short(std::move(sets))));
