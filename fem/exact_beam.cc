@@ -289,6 +289,207 @@ void ExactBeamStaticProblem::Validate() const {
     throw InputError("exact_beam.load_steps", std::to_string(load_steps), "must be >= 1");
 }
 
+namespace {
+
+/// Newton's method at one load level of SolveExactBeamStatic (see there for the method): the
+/// problem's fixed data (reference, dead load, free dofs, residual scales) and the work
+/// vectors and factorisation that every iteration reuses.
+class StaticNewton {
+ public:
+  /// `p` validated; `load_factor` finite.
+  StaticNewton(const ExactBeamStaticProblem& p, double load_factor);
+
+  /// Reference dofs [x, y, θ] of every node [m, m, rad].
+  const Vec& reference_dofs() const { return q_ref_; }
+  /// Newton updates over all calls so far.
+  int total_iterations() const { return total_iterations_; }
+
+  /// Moves *q to the equilibrium at λ F (load step `step`, for the messages). Throws
+  /// NumericalError if no shifted tangent is positive definite, if the line search finds no
+  /// decrease, or after kMaxNewtonIterations updates.
+  void SolveStep(int step, double lambda, Vec* q);
+
+ private:
+  /// Π(x) = U(x) − λ Fᵀ(x − q_ref) [J]; *magnitude = |U| + |W|, the size of its terms.
+  double Potential(const Vec& x, double lambda, double* magnitude) const;
+  /// max over the free dofs of |res_i| / (F_s or F_s L).
+  double ScaledResidualNorm(const Vec& res) const;
+  /// Solves (K + μ D) Δ = −r on the free dofs from triplets_ and r_ into delta_free_ and
+  /// delta_ (zero on the fixed dofs), with the smallest tried μ whose factorisation succeeds;
+  /// returns μ (0: plain Newton).
+  double SolveShiftedUpdate(double lambda, int iteration);
+  /// Limits the update to kMaxRotationStep and kMaxTranslationStep, then halves it until Π
+  /// satisfies the Armijo condition; moves *q and returns true, or returns false.
+  bool LineSearch(double lambda, double shift, double max_rotation, double max_translation,
+                  Vec* q) const;
+
+  double load_factor_;
+  int load_steps_;
+  double rod_length_;  // [m]
+  ReissnerStiffness stiffness_;
+  double L0_;  // element length [m]
+  Vec q_ref_;
+  std::vector<ReissnerStrains> reference_;
+  Vec F_;  // dead loads times load_factor [N, N, N m per node]
+  std::vector<int> free_;
+  Vec inv_scale_;  // 1/F_s for forces, 1/(F_s L) for moments
+  Vec f_int_, r_, r_free_, delta_free_, delta_;
+  std::vector<Triplet> triplets_;
+  SpMat K_full_;
+  Eigen::SimplicialLLT<SpMat, Eigen::Lower> llt_;
+  int total_iterations_{0};
+};
+
+StaticNewton::StaticNewton(const ExactBeamStaticProblem& p, double load_factor)
+    : load_factor_(load_factor),
+      load_steps_(p.load_steps),
+      rod_length_(p.rod.length),
+      stiffness_(ReissnerStiffnessOf(p.rod.material, p.rod.section)),
+      L0_(p.rod.element_length()) {
+  const RodSpec& rod = p.rod;
+  const int n_dofs = rod.num_nodes() * kDofsPerNode;
+
+  q_ref_ = ReferenceDofs(rod, p.initial_offset);
+  reference_.resize(static_cast<size_t>(rod.num_elements));
+  for (int e = 0; e < rod.num_elements; ++e)
+    reference_[static_cast<size_t>(e)] = CalcReissnerStrains(L0_, ElementDofs(q_ref_, e));
+
+  F_ = Vec::Zero(n_dofs);
+  for (const auto& [node, load] : p.loads) F_.segment<3>(kDofsPerNode * node) += load;
+  F_ *= load_factor;
+
+  free_ = FreeDofs(n_dofs, FixedDofIndices(p.fixed));
+  const int n_free = static_cast<int>(free_.size());
+
+  // Residual scales: forces by F_s, moments by F_s L.
+  double force_scale = stiffness_.EI / (rod.length * rod.length);
+  for (int i = 0; i < n_dofs; ++i) {
+    const bool is_moment = i % kDofsPerNode == 2;
+    force_scale = std::max(force_scale, std::abs(F_[i]) / (is_moment ? rod.length : 1.0));
+  }
+  inv_scale_.resize(n_dofs);
+  for (int i = 0; i < n_dofs; ++i)
+    inv_scale_[i] = 1.0 / (i % kDofsPerNode == 2 ? force_scale * rod.length : force_scale);
+
+  r_.resize(n_dofs);
+  r_free_.resize(n_free);
+  delta_.resize(n_dofs);
+  K_full_.resize(n_dofs, n_dofs);
+}
+
+double StaticNewton::Potential(const Vec& x, double lambda, double* magnitude) const {
+  Vec f_unused;
+  const double U = AssembleInternal(stiffness_, L0_, reference_, x, &f_unused, nullptr);
+  const double W = lambda * F_.dot(x - q_ref_);
+  *magnitude = std::abs(U) + std::abs(W);
+  return U - W;
+}
+
+double StaticNewton::ScaledResidualNorm(const Vec& res) const {
+  double m = 0.0;
+  for (int i : free_) m = std::max(m, std::abs(res[i]) * inv_scale_[i]);
+  return m;
+}
+
+void StaticNewton::SolveStep(int step, double lambda, Vec* q) {
+  const int n_dofs = static_cast<int>(q->size());
+  double residual_norm = 0.0;
+  for (int iteration = 0; iteration <= kMaxNewtonIterations; ++iteration) {
+    AssembleInternal(stiffness_, L0_, reference_, *q, &f_int_, &triplets_);
+    r_ = f_int_ - lambda * F_;
+    residual_norm = ScaledResidualNorm(r_);
+    if (residual_norm <= kResidualTol) return;
+    if (iteration == kMaxNewtonIterations) break;
+
+    const double shift = SolveShiftedUpdate(lambda, iteration);
+    double max_rotation = 0.0, max_translation = 0.0;
+    for (int i = 0; i < n_dofs; ++i) {
+      if (i % kDofsPerNode == 2)
+        max_rotation = std::max(max_rotation, std::abs(delta_[i]));
+      else
+        max_translation = std::max(max_translation, std::abs(delta_[i]));
+    }
+    if (shift == 0.0 && residual_norm <= kLooseResidualTol &&
+        std::max(max_rotation, max_translation / rod_length_) <= kIncrementTol) {
+      *q += delta_;  // the last, tiny Newton update
+      ++total_iterations_;
+      return;
+    }
+    const bool accepted = LineSearch(lambda, shift, max_rotation, max_translation, q);
+    ++total_iterations_;
+    if (!accepted) {
+      throw NumericalError(
+          "SolveExactBeamStatic: the line search found no decrease of the potential at load "
+          "factor " +
+          FormatValue(lambda * load_factor_) + " (iteration " + std::to_string(iteration) +
+          ", scaled residual " + FormatValue(residual_norm) +
+          "); try more load_steps or check the supports");
+    }
+  }
+  throw NumericalError("SolveExactBeamStatic: no convergence at load factor " +
+                       FormatValue(lambda * load_factor_) + " (step " + std::to_string(step) +
+                       " of " + std::to_string(load_steps_) + ", " +
+                       std::to_string(kMaxNewtonIterations) + " iterations, scaled residual " +
+                       FormatValue(residual_norm) + " > " + FormatValue(kResidualTol) +
+                       "); try more load_steps, or check that the supports prevent rigid motion");
+}
+
+double StaticNewton::SolveShiftedUpdate(double lambda, int iteration) {
+  const int n_free = static_cast<int>(free_.size());
+  K_full_.setFromTriplets(triplets_.begin(), triplets_.end());
+  SpMat K_free = Restrict(K_full_, free_);
+  for (int i = 0; i < n_free; ++i) r_free_[i] = r_[free_[static_cast<size_t>(i)]];
+  const Vec diag = K_free.diagonal().cwiseAbs().cwiseMax(
+      std::numeric_limits<double>::min());  // zero only for a dof with no stiffness at all
+  double shift = 0.0;
+  SpMat A = K_free;
+  llt_.analyzePattern(A);
+  llt_.factorize(A);
+  while (llt_.info() != Eigen::Success) {
+    shift = shift == 0.0 ? kFirstShift : shift * kShiftGrowth;
+    if (shift > kMaxShift)
+      throw NumericalError(
+          "SolveExactBeamStatic: no positive definite shifted tangent at load factor " +
+          FormatValue(lambda * load_factor_) + " (iteration " + std::to_string(iteration) +
+          "); is the rod free to move as a rigid body? fix enough dofs");
+    A = K_free;
+    for (int i = 0; i < n_free; ++i) A.coeffRef(i, i) += shift * diag[i];
+    llt_.factorize(A);
+  }
+  delta_free_ = llt_.solve(-r_free_);
+  delta_.setZero();
+  for (int i = 0; i < n_free; ++i) delta_[free_[static_cast<size_t>(i)]] = delta_free_[i];
+  return shift;
+}
+
+bool StaticNewton::LineSearch(double lambda, double shift, double max_rotation,
+                              double max_translation, Vec* q) const {
+  double step_length = 1.0;
+  if (max_rotation > kMaxRotationStep) step_length = kMaxRotationStep / max_rotation;
+  if (max_translation * step_length > kMaxTranslationStep * rod_length_)
+    step_length = kMaxTranslationStep * rod_length_ / max_translation;
+  const double slope = r_free_.dot(delta_free_);  // dΠ/dt at t = 0, < 0
+  double magnitude = 0.0;
+  const double pi_0 = Potential(*q, lambda, &magnitude);
+  for (int halving = 0; halving <= kMaxLineSearchHalvings; ++halving) {
+    const Vec trial = *q + step_length * delta_;
+    double trial_magnitude = 0.0;
+    const double pi_t = Potential(trial, lambda, &trial_magnitude);
+    // Round-off allowance: Π is a sum of terms of size `magnitude`.
+    const double allowance =
+        64.0 * std::numeric_limits<double>::epsilon() * (magnitude + trial_magnitude);
+    if (std::isfinite(pi_t) &&
+        pi_t <= pi_0 + kArmijo * step_length * slope + (shift == 0.0 ? allowance : 0.0)) {
+      *q = trial;
+      return true;
+    }
+    step_length *= 0.5;
+  }
+  return false;
+}
+
+}  // namespace
+
 // Newton's method for the total potential Π(q) = Σ_e U_e(q) − λ Fᵀ(q − q_ref) (dead loads are
 // conservative; a dead moment does work M Δθ in the plane). The residual is r = ∂Π/∂q = f − λF
 // and the tangent ∂²Π/∂q² = K (symmetric at rest). Each update solves (K + μ D) Δ = −r on the
@@ -301,53 +502,8 @@ ExactBeamStaticSolution SolveExactBeamStatic(const ExactBeamStaticProblem& p, do
   p.Validate();
   if (!std::isfinite(load_factor))
     throw InputError("exact_beam.load_factor", FormatValue(load_factor), "must be finite");
-  const RodSpec& rod = p.rod;
-  const ReissnerStiffness stiffness = ReissnerStiffnessOf(rod.material, rod.section);
-  const double L0 = rod.element_length();
-  const int n_dofs = rod.num_nodes() * kDofsPerNode;
-
-  const Vec q_ref = ReferenceDofs(rod, p.initial_offset);
-  std::vector<ReissnerStrains> reference(static_cast<size_t>(rod.num_elements));
-  for (int e = 0; e < rod.num_elements; ++e)
-    reference[static_cast<size_t>(e)] = CalcReissnerStrains(L0, ElementDofs(q_ref, e));
-
-  Vec F = Vec::Zero(n_dofs);
-  for (const auto& [node, load] : p.loads) F.segment<3>(kDofsPerNode * node) += load;
-  F *= load_factor;
-
-  const std::vector<int> free = FreeDofs(n_dofs, FixedDofIndices(p.fixed));
-  const int n_free = static_cast<int>(free.size());
-
-  // Residual scales: forces by F_s, moments by F_s L.
-  double force_scale = stiffness.EI / (rod.length * rod.length);
-  for (int i = 0; i < n_dofs; ++i) {
-    const bool is_moment = i % kDofsPerNode == 2;
-    force_scale = std::max(force_scale, std::abs(F[i]) / (is_moment ? rod.length : 1.0));
-  }
-  Vec inv_scale(n_dofs);
-  for (int i = 0; i < n_dofs; ++i)
-    inv_scale[i] = 1.0 / (i % kDofsPerNode == 2 ? force_scale * rod.length : force_scale);
-
-  Vec q = q_ref;
-  Vec f_int, r(n_dofs), r_free(n_free), delta_free, delta(n_dofs);
-  std::vector<Triplet> triplets;
-  SpMat K_full(n_dofs, n_dofs);
-  Eigen::SimplicialLLT<SpMat, Eigen::Lower> llt;
-  int total_iterations = 0;
-
-  auto potential = [&](const Vec& x, double lambda, double* magnitude) {
-    Vec f_unused;
-    const double U = AssembleInternal(stiffness, L0, reference, x, &f_unused, nullptr);
-    const double W = lambda * F.dot(x - q_ref);
-    *magnitude = std::abs(U) + std::abs(W);
-    return U - W;
-  };
-  auto scaled_residual_norm = [&](const Vec& res) {
-    double m = 0.0;
-    for (int i : free) m = std::max(m, std::abs(res[i]) * inv_scale[i]);
-    return m;
-  };
-
+  StaticNewton newton(p, load_factor);
+  Vec q = newton.reference_dofs();
   Vec q_previous = q;  // the equilibrium of the step before, for the predictor
   for (int step = 1; step <= p.load_steps; ++step) {
     const double lambda = static_cast<double>(step) / p.load_steps;  // of F (load_factor in F)
@@ -361,107 +517,14 @@ ExactBeamStaticSolution SolveExactBeamStatic(const ExactBeamStaticProblem& p, do
       q_previous = q;
       q = extrapolated;
     }
-    bool converged = false;
-    double residual_norm = 0.0;
-    for (int iteration = 0; iteration <= kMaxNewtonIterations; ++iteration) {
-      AssembleInternal(stiffness, L0, reference, q, &f_int, &triplets);
-      r = f_int - lambda * F;
-      residual_norm = scaled_residual_norm(r);
-      if (residual_norm <= kResidualTol) {
-        converged = true;
-        break;
-      }
-      if (iteration == kMaxNewtonIterations) break;
-
-      K_full.setFromTriplets(triplets.begin(), triplets.end());
-      SpMat K_free = Restrict(K_full, free);
-      for (int i = 0; i < n_free; ++i) r_free[i] = r[free[static_cast<size_t>(i)]];
-      const Vec diag = K_free.diagonal().cwiseAbs().cwiseMax(
-          std::numeric_limits<double>::min());  // zero only for a dof with no stiffness at all
-      double shift = 0.0;
-      SpMat A = K_free;
-      llt.analyzePattern(A);
-      llt.factorize(A);
-      while (llt.info() != Eigen::Success) {
-        shift = shift == 0.0 ? kFirstShift : shift * kShiftGrowth;
-        if (shift > kMaxShift)
-          throw NumericalError(
-              "SolveExactBeamStatic: no positive definite shifted tangent at load factor " +
-              FormatValue(lambda * load_factor) + " (iteration " + std::to_string(iteration) +
-              "); is the rod free to move as a rigid body? fix enough dofs");
-        A = K_free;
-        for (int i = 0; i < n_free; ++i) A.coeffRef(i, i) += shift * diag[i];
-        llt.factorize(A);
-      }
-      delta_free = llt.solve(-r_free);
-      delta.setZero();
-      for (int i = 0; i < n_free; ++i) delta[free[static_cast<size_t>(i)]] = delta_free[i];
-
-      double max_rotation = 0.0, max_translation = 0.0;
-      for (int i = 0; i < n_dofs; ++i) {
-        if (i % kDofsPerNode == 2)
-          max_rotation = std::max(max_rotation, std::abs(delta[i]));
-        else
-          max_translation = std::max(max_translation, std::abs(delta[i]));
-      }
-      if (shift == 0.0 && residual_norm <= kLooseResidualTol &&
-          std::max(max_rotation, max_translation / rod.length) <= kIncrementTol) {
-        q += delta;  // the last, tiny Newton update
-        ++total_iterations;
-        converged = true;
-        break;
-      }
-
-      // Step limit, then backtracking on Π.
-      double step_length = 1.0;
-      if (max_rotation > kMaxRotationStep) step_length = kMaxRotationStep / max_rotation;
-      if (max_translation * step_length > kMaxTranslationStep * rod.length)
-        step_length = kMaxTranslationStep * rod.length / max_translation;
-      const double slope = r_free.dot(delta_free);  // dΠ/dt at t = 0, < 0
-      double magnitude = 0.0;
-      const double pi_0 = potential(q, lambda, &magnitude);
-      bool accepted = false;
-      for (int halving = 0; halving <= kMaxLineSearchHalvings; ++halving) {
-        const Vec trial = q + step_length * delta;
-        double trial_magnitude = 0.0;
-        const double pi_t = potential(trial, lambda, &trial_magnitude);
-        // Round-off allowance: Π is a sum of terms of size `magnitude`.
-        const double allowance =
-            64.0 * std::numeric_limits<double>::epsilon() * (magnitude + trial_magnitude);
-        if (std::isfinite(pi_t) &&
-            pi_t <= pi_0 + kArmijo * step_length * slope + (shift == 0.0 ? allowance : 0.0)) {
-          q = trial;
-          accepted = true;
-          break;
-        }
-        step_length *= 0.5;
-      }
-      ++total_iterations;
-      if (!accepted) {
-        throw NumericalError(
-            "SolveExactBeamStatic: the line search found no decrease of the potential at load "
-            "factor " +
-            FormatValue(lambda * load_factor) + " (iteration " + std::to_string(iteration) +
-            ", scaled residual " + FormatValue(residual_norm) +
-            "); try more load_steps or check the supports");
-      }
-    }
-    if (!converged) {
-      throw NumericalError(
-          "SolveExactBeamStatic: no convergence at load factor " +
-          FormatValue(lambda * load_factor) + " (step " + std::to_string(step) + " of " +
-          std::to_string(p.load_steps) + ", " + std::to_string(kMaxNewtonIterations) +
-          " iterations, scaled residual " + FormatValue(residual_norm) + " > " +
-          FormatValue(kResidualTol) +
-          "); try more load_steps, or check that the supports prevent rigid motion");
-    }
+    newton.SolveStep(step, lambda, &q);
   }
 
   ExactBeamStaticSolution out;
-  out.nodes.resize(static_cast<size_t>(rod.num_nodes()));
-  for (int k = 0; k < rod.num_nodes(); ++k)
+  out.nodes.resize(static_cast<size_t>(p.rod.num_nodes()));
+  for (int k = 0; k < p.rod.num_nodes(); ++k)
     out.nodes[static_cast<size_t>(k)] = q.segment<3>(kDofsPerNode * k);
-  out.newton_iterations = total_iterations;
+  out.newton_iterations = newton.total_iterations();
   return out;
 }
 
