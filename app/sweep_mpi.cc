@@ -82,6 +82,96 @@ int JobsPerRank(const SweepRequest& request) {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / local);
 }
 
+/// Rethrows `error` and aborts every rank with `prefix` and its message.
+[[noreturn]] void AbortOn(const std::exception_ptr& error, const std::string& prefix) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    Abort(prefix + e.what());
+  }
+}
+
+/// Rank 0's run ids still to hand out and the sweep's progress, shared by its own threads and
+/// its MPI loop; every member takes the lock.
+class RunLedger {
+ public:
+  /// Shows the starting state: `order` are the runs still to compute.
+  RunLedger(const study::SweepMatrix& matrix, const std::vector<int>& order,
+            ProgressDisplay* display)
+      : matrix_(matrix), display_(display), queue_(order.begin(), order.end()) {
+    state_.total = static_cast<int>(matrix.num_runs());
+    state_.to_run = static_cast<int>(queue_.size());
+    state_.already_done = state_.total - state_.to_run;
+    (*display_)(state_);
+  }
+
+  /// The next run id, nullopt when every run has been handed out.
+  std::optional<int> Pop() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (queue_.empty()) return std::nullopt;
+    const int id = queue_.front();
+    queue_.pop_front();
+    return id;
+  }
+
+  /// Counts a finished run (computed here or received) and shows it.
+  void Record(const study::StoredRun& run) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    state_.kind = study::SweepEvent::Kind::kRunDone;
+    ++state_.done;
+    state_.failed += run.ok() ? 0 : 1;
+    state_.id = run.id;
+    state_.ok = run.ok();
+    state_.label = matrix_.runs[static_cast<std::size_t>(run.id)].Label();
+    state_.message = run.message;
+    state_.run_seconds = run.wall_time;
+    (*display_)(state_);
+  }
+
+  /// Whether every run to compute has been recorded.
+  bool AllDone() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return state_.done >= state_.to_run;
+  }
+
+ private:
+  const study::SweepMatrix& matrix_;
+  ProgressDisplay* display_;
+  std::mutex mutex_;
+  std::deque<int> queue_;
+  study::SweepEvent state_;
+};
+
+/// Rank 0: answers one probed message of a worker rank. A request gets the next run id, or −1
+/// when none is left (that worker then stops asking: *workers_active drops); a result's part
+/// bytes are saved to the store and recorded.
+void AnswerWorker(const MPI_Status& status, RunLedger* ledger, study::SweepSession* session,
+                  int* workers_active) {
+  if (status.MPI_TAG == kTagRequest) {
+    int unused = 0;
+    Check(MPI_Recv(&unused, 1, MPI_INT, status.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
+                   MPI_STATUS_IGNORE),
+          "MPI_Recv");
+    const int id = ledger->Pop().value_or(-1);
+    Check(MPI_Send(&id, 1, MPI_INT, status.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD), "MPI_Send");
+    if (id < 0) --*workers_active;
+  } else if (status.MPI_TAG == kTagResult) {
+    int count = 0;
+    Check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
+    std::string buffer(static_cast<std::size_t>(count), '\0');
+    Check(MPI_Recv(buffer.data(), count, MPI_BYTE, status.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
+                   MPI_STATUS_IGNORE),
+          "MPI_Recv");
+    int id = 0;
+    std::memcpy(&id, buffer.data(), sizeof id);
+    study::StoredRun run = session->SaveBytes(id, buffer.substr(sizeof id));
+    run.id = id;
+    ledger->Record(run);
+  } else {
+    Abort("unexpected MPI message tag " + std::to_string(status.MPI_TAG));
+  }
+}
+
 /// Rank 0: serve run ids and collect results while its own threads compute.
 study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& request,
                                    const study::SweepMatrix& matrix, study::RodCache* rods,
@@ -90,62 +180,31 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
   ProgressDisplay display(matrix.name, std::to_string(mpi.size()) + " MPI ranks x " +
                                            std::to_string(jobs) +
                                            (jobs == 1 ? " thread" : " threads"));
-  std::mutex mutex;
   // Runs handed out at about the same time (to every worker of every rank) have different twins.
-  const std::vector<int> order = study::TwinOrder(matrix, session->pending(), mpi.size() * jobs);
-  std::deque<int> queue(order.begin(), order.end());
-  study::SweepEvent state;
-  state.total = static_cast<int>(matrix.num_runs());
-  state.to_run = static_cast<int>(queue.size());
-  state.already_done = state.total - state.to_run;
-  display(state);
-  auto record = [&](const study::StoredRun& run) {
-    std::lock_guard<std::mutex> lock(mutex);
-    state.kind = study::SweepEvent::Kind::kRunDone;
-    ++state.done;
-    state.failed += run.ok() ? 0 : 1;
-    state.id = run.id;
-    state.ok = run.ok();
-    state.label = matrix.runs[static_cast<std::size_t>(run.id)].Label();
-    state.message = run.message;
-    state.run_seconds = run.wall_time;
-    display(state);
-  };
-  auto pop = [&]() -> std::optional<int> {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (queue.empty()) return std::nullopt;
-    const int id = queue.front();
-    queue.pop_front();
-    return id;
-  };
+  RunLedger ledger(matrix, study::TwinOrder(matrix, session->pending(), mpi.size() * jobs),
+                   &display);
   TwinCache twins(static_cast<std::size_t>(jobs));
   std::exception_ptr local_error;
   std::atomic<bool> local_failed{false};
   std::thread local([&] {
     try {
-      study::RunOnThreads(jobs, pop, [&](int id) {
-        const study::StoredRun run = study::ComputeSweepRun(matrix, id, rods, &twins);
-        session->Save(run);
-        record(run);
-      });
+      study::RunOnThreads(
+          jobs, [&] { return ledger.Pop(); },
+          [&](int id) {
+            const study::StoredRun run = study::ComputeSweepRun(matrix, id, rods, &twins);
+            session->Save(run);
+            ledger.Record(run);
+          });
     } catch (...) {
       local_error = std::current_exception();
       local_failed = true;
     }
   });
   int workers_active = mpi.size() - 1;
-  auto done = [&] {
-    std::lock_guard<std::mutex> lock(mutex);
-    return state.done >= state.to_run;
-  };
-  while (workers_active > 0 || !done()) {
+  while (workers_active > 0 || !ledger.AllDone()) {
     if (local_failed) {
       local.join();
-      try {
-        std::rethrow_exception(local_error);
-      } catch (const std::exception& e) {
-        Abort(e.what());
-      }
+      AbortOn(local_error, "");
     }
     int flag = 0;
     MPI_Status status;
@@ -154,41 +213,109 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       continue;
     }
-    if (status.MPI_TAG == kTagRequest) {
-      int unused = 0;
-      Check(MPI_Recv(&unused, 1, MPI_INT, status.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE),
-            "MPI_Recv");
-      const int id = pop().value_or(-1);
-      Check(MPI_Send(&id, 1, MPI_INT, status.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD), "MPI_Send");
-      if (id < 0) --workers_active;
-    } else if (status.MPI_TAG == kTagResult) {
-      int count = 0;
-      Check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
-      std::string buffer(static_cast<std::size_t>(count), '\0');
-      Check(MPI_Recv(buffer.data(), count, MPI_BYTE, status.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE),
-            "MPI_Recv");
-      int id = 0;
-      std::memcpy(&id, buffer.data(), sizeof id);
-      study::StoredRun run = session->SaveBytes(id, buffer.substr(sizeof id));
-      run.id = id;
-      record(run);
-    } else {
-      Abort("unexpected MPI message tag " + std::to_string(status.MPI_TAG));
-    }
+    AnswerWorker(status, &ledger, session, &workers_active);
   }
   local.join();
-  if (local_error) {
-    try {
-      std::rethrow_exception(local_error);
-    } catch (const std::exception& e) {
-      Abort(e.what());
-    }
-  }
+  if (local_error) AbortOn(local_error, "");
   const study::SweepSession::Outcome outcome = session->Assemble(request.keep_parts);
   display.Finish(outcome);
   return outcome;
+}
+
+/// What a worker rank's compute threads and its main thread share, under `mutex`: the run ids
+/// rank 0 assigned, the finished runs' messages still to send, and the threads' states.
+struct RankExchange {
+  std::mutex mutex;
+  std::condition_variable cv;
+  int waiting{0};                                  // threads waiting for an id
+  int active{0};                                   // threads not yet ended
+  bool exhausted{false};                           // rank 0 has no run left
+  std::deque<int> ids;                             // assigned, not yet taken by a thread
+  std::deque<std::pair<int, std::string>> outbox;  // (id, message) to send to rank 0
+  std::exception_ptr error;                        // the first a thread threw
+};
+
+/// The message of a finished run for rank 0: the int id, then the bytes of its part file
+/// (written to and removed from `scratch`).
+std::string PartMessage(int id, const study::StoredRun& run, const fs::path& scratch) {
+  const std::string path = (scratch / (std::to_string(id) + ".h5")).string();
+  study::WritePartFile(path, run);
+  std::string message(sizeof id, '\0');
+  std::memcpy(message.data(), &id, sizeof id);
+  message += study::ReadFileBytes(path);
+  fs::remove(path);
+  return message;
+}
+
+/// A compute thread of a worker rank: takes assigned ids until rank 0 has none left, computes
+/// each run and posts its message; an exception is kept for the main thread.
+void ComputeAssignedRuns(const study::SweepMatrix& matrix, study::RodCache* rods, TwinCache* twins,
+                         const fs::path& scratch, RankExchange* x) {
+  try {
+    for (;;) {
+      int id = -1;
+      {
+        std::unique_lock<std::mutex> lock(x->mutex);
+        ++x->waiting;
+        x->cv.notify_all();
+        x->cv.wait(lock, [&] { return !x->ids.empty() || x->exhausted; });
+        --x->waiting;
+        if (x->ids.empty()) break;
+        id = x->ids.front();
+        x->ids.pop_front();
+      }
+      const study::StoredRun run = study::ComputeSweepRun(matrix, id, rods, twins);
+      std::string message = PartMessage(id, run, scratch);
+      std::lock_guard<std::mutex> lock(x->mutex);
+      x->outbox.emplace_back(id, std::move(message));
+      x->cv.notify_all();
+    }
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(x->mutex);
+    if (!x->error) x->error = std::current_exception();
+  }
+  std::lock_guard<std::mutex> lock(x->mutex);
+  --x->active;
+  x->cv.notify_all();
+}
+
+/// The main thread of a worker rank, the only one that calls MPI: sends the finished runs to
+/// rank 0 and asks it for an id whenever more threads wait than ids are queued, until every
+/// compute thread has ended. A thread's exception aborts every rank.
+void RelayToRoot(const MpiSession& mpi, RankExchange* x) {
+  for (;;) {
+    std::unique_lock<std::mutex> lock(x->mutex);
+    x->cv.wait(lock, [&] {
+      return x->error || !x->outbox.empty() ||
+             (!x->exhausted && x->waiting > static_cast<int>(x->ids.size())) || x->active == 0;
+    });
+    if (x->error) AbortOn(x->error, "rank " + std::to_string(mpi.rank()) + ": ");
+    if (!x->outbox.empty()) {
+      const std::pair<int, std::string> item = std::move(x->outbox.front());
+      x->outbox.pop_front();
+      lock.unlock();
+      Check(MPI_Send(item.second.data(), static_cast<int>(item.second.size()), MPI_BYTE, 0,
+                     kTagResult, MPI_COMM_WORLD),
+            "MPI_Send");
+      continue;
+    }
+    if (!x->exhausted && x->waiting > static_cast<int>(x->ids.size())) {
+      lock.unlock();
+      int id = -1, unused = 0;
+      Check(MPI_Send(&unused, 1, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD), "MPI_Send");
+      Check(MPI_Recv(&id, 1, MPI_INT, 0, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+            "MPI_Recv");
+      lock.lock();
+      if (id < 0) {
+        x->exhausted = true;
+      } else {
+        x->ids.push_back(id);
+      }
+      x->cv.notify_all();
+      continue;
+    }
+    if (x->active == 0) break;
+  }
 }
 
 /// Rank > 0: threads compute, the main thread asks rank 0 for ids and sends the parts back.
@@ -200,88 +327,13 @@ void Work(const MpiSession& mpi, const SweepRequest& request, const study::Sweep
       fs::temp_directory_path() /
       ("flexrod-sweep-rank" + std::to_string(mpi.rank()) + "-" + std::to_string(::getpid()));
   fs::create_directories(scratch);
-  std::mutex mutex;
-  std::condition_variable cv;
-  int waiting = 0, active = jobs;
-  bool exhausted = false;
-  std::deque<int> ids;
-  std::deque<std::pair<int, std::string>> outbox;
-  std::exception_ptr error;
+  RankExchange exchange;
+  exchange.active = jobs;
   std::vector<std::thread> threads;
   for (int j = 0; j < jobs; ++j) {
-    threads.emplace_back([&] {
-      try {
-        for (;;) {
-          int id = -1;
-          {
-            std::unique_lock<std::mutex> lock(mutex);
-            ++waiting;
-            cv.notify_all();
-            cv.wait(lock, [&] { return !ids.empty() || exhausted; });
-            --waiting;
-            if (ids.empty()) break;
-            id = ids.front();
-            ids.pop_front();
-          }
-          const study::StoredRun run = study::ComputeSweepRun(matrix, id, &rods, &twins);
-          const std::string path = (scratch / (std::to_string(id) + ".h5")).string();
-          study::WritePartFile(path, run);
-          std::string message(sizeof id, '\0');
-          std::memcpy(message.data(), &id, sizeof id);
-          message += study::ReadFileBytes(path);
-          fs::remove(path);
-          std::lock_guard<std::mutex> lock(mutex);
-          outbox.emplace_back(id, std::move(message));
-          cv.notify_all();
-        }
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!error) error = std::current_exception();
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      --active;
-      cv.notify_all();
-    });
+    threads.emplace_back([&] { ComputeAssignedRuns(matrix, &rods, &twins, scratch, &exchange); });
   }
-  for (;;) {
-    std::unique_lock<std::mutex> lock(mutex);
-    cv.wait(lock, [&] {
-      return error || !outbox.empty() || (!exhausted && waiting > static_cast<int>(ids.size())) ||
-             active == 0;
-    });
-    if (error) {
-      try {
-        std::rethrow_exception(error);
-      } catch (const std::exception& e) {
-        Abort("rank " + std::to_string(mpi.rank()) + ": " + e.what());
-      }
-    }
-    if (!outbox.empty()) {
-      const std::pair<int, std::string> item = std::move(outbox.front());
-      outbox.pop_front();
-      lock.unlock();
-      Check(MPI_Send(item.second.data(), static_cast<int>(item.second.size()), MPI_BYTE, 0,
-                     kTagResult, MPI_COMM_WORLD),
-            "MPI_Send");
-      continue;
-    }
-    if (!exhausted && waiting > static_cast<int>(ids.size())) {
-      lock.unlock();
-      int id = -1, unused = 0;
-      Check(MPI_Send(&unused, 1, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD), "MPI_Send");
-      Check(MPI_Recv(&id, 1, MPI_INT, 0, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-            "MPI_Recv");
-      lock.lock();
-      if (id < 0) {
-        exhausted = true;
-      } else {
-        ids.push_back(id);
-      }
-      cv.notify_all();
-      continue;
-    }
-    if (active == 0) break;
-  }
+  RelayToRoot(mpi, &exchange);
   for (std::thread& t : threads) t.join();
   std::error_code ec;
   fs::remove_all(scratch, ec);
