@@ -148,6 +148,10 @@ double HysteresisFloor(const contact::NormalLaw& law) {
       law);
 }
 
+/// Columns of κ (ForceElement) that the joint's Jacobian rows use: positions, velocities and
+/// angular velocities of the bush (B) and the pin (P).
+enum KinematicColumn : int { kPB = 0, kVB = 2, kWB = 5, kPP = 6, kVP = 8, kWP = 11 };
+
 contact::ClearanceKinematics Kinematics(const contact::ContactGeometry& g,
                                         const MarkerKinematics& bush, const MarkerKinematics& pin) {
   contact::ClearanceMotion motion;
@@ -285,8 +289,6 @@ bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush
                                       const MarkerKinematics& pin, const double* z,
                                       const double* memory, Mat* d_kinematics,
                                       Mat* d_states) const {
-  using Row = Eigen::Matrix<double, 1, kElementKinematicColumns>;
-  enum : int { kPB = 0, kVB = 2, kWB = 5, kPP = 6, kVP = 8, kWP = 11 };
   const contact::ClearanceKinematics k = Kinematics(geometry_, bush, pin);
   const LawValues v = EvaluateLaws(k, z, memory);
   // Open: every output is zero, and so every derivative (both matrices arrive zeroed), except
@@ -294,27 +296,44 @@ bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush
   if (!v.in_contact && !std::holds_alternative<contact::StandardLinearSolidLaw>(normal_law_)) {
     return true;
   }
+  const LawVariableRows rows = CalcLawVariableRows(k, bush, pin);
+  FillForceAndRateRows(k, v, rows, d_kinematics, d_states);
+  FillDissipationRow(k, v, rows, z, memory, d_kinematics, d_states);
+  return d_kinematics->allFinite() && d_states->allFinite();
+}
+
+ClearanceJoint::LawVariableRows ClearanceJoint::CalcLawVariableRows(
+    const contact::ClearanceKinematics& k, const MarkerKinematics& bush,
+    const MarkerKinematics& pin) const {
+  const Vec2 n = k.normal, tg = k.tangent;
+  const Vec2 edot = pin.velocity - bush.velocity;
+  LawVariableRows rows;
+  rows.r = std::max(k.eccentricity_norm, contact::kMinEccentricity);
+  rows.d_delta.segment<2>(kPP) = n.transpose();
+  rows.d_rate.segment<2>(kPP) = (tg.dot(edot) / rows.r) * tg.transpose();
+  rows.d_rate.segment<2>(kVP) = n.transpose();
+  rows.d_slip.segment<2>(kPP) = (-k.penetration_rate / rows.r) * tg.transpose();
+  rows.d_slip.segment<2>(kVP) = tg.transpose();
+  for (KinematicRow* row : {&rows.d_delta, &rows.d_rate, &rows.d_slip}) {
+    row->segment<2>(kPB) = -row->segment<2>(kPP);
+  }
+  rows.d_slip.segment<2>(kVB) = -tg.transpose();
+  rows.d_rate.segment<2>(kVB) = -n.transpose();
+  rows.d_slip(kWP) = geometry_.pin_radius;
+  rows.d_slip(kWB) = -geometry_.bush_radius;
+  return rows;
+}
+
+void ClearanceJoint::FillForceAndRateRows(const contact::ClearanceKinematics& k, const LawValues& v,
+                                          const LawVariableRows& rows, Mat* d_kinematics,
+                                          Mat* d_states) const {
   Mat& D = *d_kinematics;
   Mat& Dz = *d_states;
   const Vec2 n = k.normal, tg = k.tangent;
-  const Vec2 edot = pin.velocity - bush.velocity;
-  const double r = std::max(k.eccentricity_norm, contact::kMinEccentricity);
-  // Derivatives of the law variables with respect to κ.
-  Row d_delta = Row::Zero(), d_rate = Row::Zero(), d_slip = Row::Zero();
-  d_delta.segment<2>(kPP) = n.transpose();
-  d_rate.segment<2>(kPP) = (tg.dot(edot) / r) * tg.transpose();
-  d_rate.segment<2>(kVP) = n.transpose();
-  d_slip.segment<2>(kPP) = (-k.penetration_rate / r) * tg.transpose();
-  d_slip.segment<2>(kVP) = tg.transpose();
-  for (Row* row : {&d_delta, &d_rate, &d_slip}) row->segment<2>(kPB) = -row->segment<2>(kPP);
-  d_slip.segment<2>(kVB) = -tg.transpose();
-  d_rate.segment<2>(kVB) = -n.transpose();
-  d_slip(kWP) = geometry_.pin_radius;
-  d_slip(kWB) = -geometry_.bush_radius;
-
+  const double r = rows.r;
   // Normal and friction forces: rows over κ and columns over z.
-  const Row d_fn = v.normal.d_penetration * d_delta + v.normal.d_rate * d_rate;
-  const Row d_ft = v.friction.d_slip * d_slip + v.friction.d_normal * d_fn;
+  const KinematicRow d_fn = v.normal.d_penetration * rows.d_delta + v.normal.d_rate * rows.d_rate;
+  const KinematicRow d_ft = v.friction.d_slip * rows.d_slip + v.friction.d_normal * d_fn;
   std::array<double, kMaxClearanceStates> fn_z{}, ft_z{};
   if (normal_state_ >= 0) {
     fn_z[normal_state_] = v.normal.d_state;
@@ -341,15 +360,22 @@ bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush
   }
   // State rates.
   if (normal_state_ >= 0) {
-    D.row(7 + normal_state_) = v.normal_rate.d_penetration * d_delta;
+    D.row(7 + normal_state_) = v.normal_rate.d_penetration * rows.d_delta;
     Dz(7 + normal_state_, normal_state_) = v.normal_rate.d_state;
   }
   if (friction_state_ >= 0 && v.in_contact) {
-    D.row(7 + friction_state_) = v.friction_rate.d_slip * d_slip;
+    D.row(7 + friction_state_) = v.friction_rate.d_slip * rows.d_slip;
     Dz(7 + friction_state_, friction_state_) = v.friction_rate.d_state;
   }
+}
 
-  // Dissipation: central differences in the law variables.
+void ClearanceJoint::FillDissipationRow(const contact::ClearanceKinematics& k, const LawValues& v,
+                                        const LawVariableRows& rows, const double* z,
+                                        const double* memory, Mat* d_kinematics,
+                                        Mat* d_states) const {
+  Mat& D = *d_kinematics;
+  Mat& Dz = *d_states;
+  // Central differences in the law variables.
   const double step = std::cbrt(std::numeric_limits<double>::epsilon());
   const FiniteDifferenceScales sc = fd_scales();
   auto dissipation_slope = [&](double contact::ClearanceKinematics::*u, double scale) {
@@ -362,10 +388,12 @@ bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush
     const LawValues vp = EvaluateLaws(kp, z, memory), vm = EvaluateLaws(km, z, memory);
     return (vp.dissipation() - vm.dissipation()) / (2.0 * h);
   };
-  D.row(6) = dissipation_slope(&contact::ClearanceKinematics::penetration, sc.length) * d_delta +
-             dissipation_slope(&contact::ClearanceKinematics::penetration_rate, sc.speed) * d_rate;
+  D.row(6) =
+      dissipation_slope(&contact::ClearanceKinematics::penetration, sc.length) * rows.d_delta +
+      dissipation_slope(&contact::ClearanceKinematics::penetration_rate, sc.speed) * rows.d_rate;
   if (friction_law_ && v.in_contact) {
-    D.row(6) += dissipation_slope(&contact::ClearanceKinematics::slip_velocity, sc.speed) * d_slip;
+    D.row(6) +=
+        dissipation_slope(&contact::ClearanceKinematics::slip_velocity, sc.speed) * rows.d_slip;
   }
   for (int s = 0; s < num_states_; ++s) {
     std::array<double, kMaxClearanceStates> zp{}, zm{};
@@ -378,7 +406,6 @@ bool ClearanceJoint::EvaluateJacobian(double /*t*/, const MarkerKinematics& bush
                 EvaluateLaws(k, zm.data(), memory).dissipation()) /
                (2.0 * h);
   }
-  return D.allFinite() && Dz.allFinite();
 }
 
 double ClearanceJoint::PotentialEnergy(const MarkerKinematics& bush, const MarkerKinematics& pin,

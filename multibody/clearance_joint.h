@@ -188,6 +188,25 @@ class ClearanceJoint final : public ForceElement {
   };
   LawValues EvaluateLaws(const contact::ClearanceKinematics& k, const double* z,
                          const double* memory) const;
+  using KinematicRow = Eigen::Matrix<double, 1, kElementKinematicColumns>;
+  /// The law variables' derivatives ∂δ/∂κ, ∂δ̇/∂κ, ∂v_t/∂κ (EvaluateJacobian), with the
+  /// eccentricity r = max(|e|, contact::kMinEccentricity) [m] they divide by.
+  struct LawVariableRows {
+    double r{0.0};
+    KinematicRow d_delta{KinematicRow::Zero()};
+    KinematicRow d_rate{KinematicRow::Zero()};
+    KinematicRow d_slip{KinematicRow::Zero()};
+  };
+  LawVariableRows CalcLawVariableRows(const contact::ClearanceKinematics& k,
+                                      const MarkerKinematics& bush,
+                                      const MarkerKinematics& pin) const;
+  /// EvaluateJacobian's force and moment rows (0–5) and state-rate rows (7…), analytic.
+  void FillForceAndRateRows(const contact::ClearanceKinematics& k, const LawValues& v,
+                            const LawVariableRows& rows, Mat* d_kinematics, Mat* d_states) const;
+  /// EvaluateJacobian's dissipation row (6), by central differences in δ, δ̇, v_t and z.
+  void FillDissipationRow(const contact::ClearanceKinematics& k, const LawValues& v,
+                          const LawVariableRows& rows, const double* z, const double* memory,
+                          Mat* d_kinematics, Mat* d_states) const;
   contact::LawState LawStateOf(const double* z, const double* memory) const;
   bool InContact(const contact::ClearanceKinematics& k, const double* memory) const;
 
