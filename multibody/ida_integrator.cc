@@ -92,6 +92,18 @@ struct IdaIntegrator::Impl {
     if (ctx != nullptr) SUNContext_Free(&ctx);
   }
 
+  /// IDAReInit at t0 from (y0, yp0), the counters so far added to `base`.
+  void Reinitialize(double t0, const double* y0, const double* yp0);
+  /// The context and the vectors: y, yp from (y0, yp0); the masks, the absolute tolerances
+  /// (abs_tol times the system's scales) and the relative-tolerance caps from the system.
+  void CreateVectors(const double* y0, const double* yp0, double abs_tol);
+  /// IDA's memory at t0 with the callbacks, the Newton solver with IdaNewtonConvTest, the
+  /// error weights of IdaErrorWeights and every option of `options` but the linear solver.
+  void CreateIda(double t0, const IntegratorOptions& options);
+  /// The dense or the KLU linear solver (on the system's Jacobian pattern), timed if
+  /// time_calls, with IdaJacobian; then the root functions if the system has any.
+  void AttachLinearSolverAndRoots(LinearSolverKind kind);
+
   IntegratorStats Current() const {
     IntegratorStats s;
     if (mem == nullptr) return s;
@@ -287,6 +299,102 @@ static void IdaErrorHandler(int error_code, const char* module, const char* func
 
 }  // extern "C"
 
+// ---- Impl: set-up -------------------------------------------------------------------------------
+void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double* yp0) {
+  const IntegratorStats cur = Current();
+  base.steps += cur.steps;
+  base.residual_evaluations += cur.residual_evaluations;
+  base.jacobian_evaluations += cur.jacobian_evaluations;
+  base.nonlinear_iterations += cur.nonlinear_iterations;
+  base.nonlinear_convergence_failures += cur.nonlinear_convergence_failures;
+  base.error_test_failures += cur.error_test_failures;
+  std::memcpy(NV_DATA_S(y), y0, sizeof(double) * n);
+  std::memcpy(NV_DATA_S(yp), yp0, sizeof(double) * n);
+  CheckFlag(IDAReInit(mem, t0, y, yp), "IDAReInit");
+  newton_rate_factor = 20.0;
+  t_returned = std::numeric_limits<double>::quiet_NaN();  // y holds no step's φ₀ now
+  ++reinits;
+}
+
+void IdaIntegrator::Impl::CreateVectors(const double* y0, const double* yp0, double abs_tol) {
+  CheckFlag(SUNContext_Create(nullptr, &ctx), "SUNContext_Create");
+  y = CheckPointer(N_VNew_Serial(n, ctx), "N_VNew_Serial");
+  yp = CheckPointer(N_VNew_Serial(n, ctx), "N_VNew_Serial");
+  id = CheckPointer(N_VNew_Serial(n, ctx), "N_VNew_Serial");
+  atol = CheckPointer(N_VNew_Serial(n, ctx), "N_VNew_Serial");
+  tmp = CheckPointer(N_VNew_Serial(n, ctx), "N_VNew_Serial");
+  tmp2 = CheckPointer(N_VNew_Serial(n, ctx), "N_VNew_Serial");
+  // Fused vector operations (off by default for serial vectors) make IDAGetDky and the BDF
+  // bookkeeping single passes over memory; IDA's internal vectors are clones of y and inherit.
+  for (N_Vector v : {y, yp, tmp, tmp2}) {
+    CheckFlag(N_VEnableFusedOps_Serial(v, SUNTRUE), "N_VEnableFusedOps_Serial");
+  }
+  std::memcpy(NV_DATA_S(y), y0, sizeof(double) * n);
+  std::memcpy(NV_DATA_S(yp), yp0, sizeof(double) * n);
+  system->DifferentialMask(NV_DATA_S(id));
+  step_scaled.assign(n, 0.0);
+  system->StepScaledWeightMask(step_scaled.data());
+  system->AbsoluteToleranceScales(NV_DATA_S(atol));
+  rel_caps.assign(n, 0.0);
+  system->RelativeToleranceCaps(rel_caps.data());
+  for (int i = 0; i < n; ++i) NV_DATA_S(atol)[i] *= abs_tol;
+}
+
+void IdaIntegrator::Impl::CreateIda(double t0, const IntegratorOptions& options) {
+  mem = CheckPointer(IDACreate(ctx), "IDACreate");
+  CheckFlag(IDASetErrHandlerFn(mem, IdaErrorHandler, this), "IDASetErrHandlerFn");
+  CheckFlag(IDAInit(mem, IdaResidual, t0, y, yp), "IDAInit");
+  CheckFlag(IDASetUserData(mem, this), "IDASetUserData");
+  // IDA's Newton solver with the convergence test of IdaNewtonConvTest.
+  NLS = CheckPointer(SUNNonlinSol_Newton(y, ctx), "SUNNonlinSol_Newton");
+  CheckFlag(IDASetNonlinearSolver(mem, NLS), "IDASetNonlinearSolver");
+  CheckFlag(SUNNonlinSolSetConvTestFn(NLS, IdaNewtonConvTest, this), "SUNNonlinSolSetConvTestFn");
+  rel_tol = options.rel_tol;
+  scale_algebraic = options.scale_algebraic_weights_by_step;
+  initial_step = options.initial_step;
+  time_calls = options.time_calls;
+  CheckFlag(IDAWFtolerances(mem, IdaErrorWeights), "IDAWFtolerances");
+  CheckFlag(IDASetId(mem, id), "IDASetId");
+  CheckFlag(IDASetSuppressAlg(mem, options.suppress_algebraic ? SUNTRUE : SUNFALSE),
+            "IDASetSuppressAlg");
+  CheckFlag(IDASetMaxOrd(mem, options.max_order), "IDASetMaxOrd");
+  if (options.max_step > 0.0) CheckFlag(IDASetMaxStep(mem, options.max_step), "IDASetMaxStep");
+  if (options.initial_step > 0.0) {
+    CheckFlag(IDASetInitStep(mem, options.initial_step), "IDASetInitStep");
+  }
+  CheckFlag(IDASetMaxNonlinIters(mem, options.max_nonlinear_iterations), "IDASetMaxNonlinIters");
+  CheckFlag(IDASetMaxConvFails(mem, options.max_convergence_failures), "IDASetMaxConvFails");
+  CheckFlag(IDASetMaxErrTestFails(mem, options.max_error_test_failures), "IDASetMaxErrTestFails");
+  CheckFlag(IDASetNonlinConvCoef(mem, options.nonlinear_convergence_coefficient),
+            "IDASetNonlinConvCoef");
+  CheckFlag(IDASetDeltaCjLSetup(mem, options.jacobian_refresh_cj_change), "IDASetDeltaCjLSetup");
+}
+
+void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
+  SUNLinearSolver inner = nullptr;
+  if (kind == LinearSolverKind::kKlu) {
+    sparse = true;
+    pattern = system->JacobianPattern();
+    if (pattern.size != n || static_cast<int>(pattern.col_ptr.size()) != n + 1) {
+      throw NumericalError("IdaIntegrator: the Jacobian pattern does not match the DAE size");
+    }
+    dense_scratch.assign(static_cast<size_t>(n) * n, 0.0);
+    A = CheckPointer(SUNSparseMatrix(n, n, pattern.nnz(), CSC_MAT, ctx), "SUNSparseMatrix");
+    inner = CheckPointer(SUNLinSol_KLU(y, A, ctx), "SUNLinSol_KLU");
+  } else {
+    A = CheckPointer(SUNDenseMatrix(n, n, ctx), "SUNDenseMatrix");
+    inner = CheckPointer(SUNLinSol_Dense(y, A, ctx), "SUNLinSol_Dense");
+  }
+  LS = MakeTimedSolver(inner, time_calls ? &linear_seconds : nullptr, ctx);
+  CheckFlag(IDASetLinearSolver(mem, LS, A), "IDASetLinearSolver");
+  CheckFlag(IDASetJacFn(mem, IdaJacobian), "IDASetJacFn");
+  const int nr = system->num_roots();
+  if (nr > 0) {
+    CheckFlag(IDARootInit(mem, nr, IdaRoots), "IDARootInit");
+    CheckFlag(IDASetNoInactiveRootWarn(mem), "IDASetNoInactiveRootWarn");
+  }
+}
+
 // ---- IdaIntegrator ------------------------------------------------------------------------------
 IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options)
     : impl_(std::make_unique<Impl>()), system_(system), options_(options) {
@@ -310,96 +418,13 @@ IdaIntegrator::~IdaIntegrator() = default;
 
 void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   Impl& I = *impl_;
-  const int n = I.n;
   if (initialized_) {
-    const IntegratorStats cur = I.Current();
-    I.base.steps += cur.steps;
-    I.base.residual_evaluations += cur.residual_evaluations;
-    I.base.jacobian_evaluations += cur.jacobian_evaluations;
-    I.base.nonlinear_iterations += cur.nonlinear_iterations;
-    I.base.nonlinear_convergence_failures += cur.nonlinear_convergence_failures;
-    I.base.error_test_failures += cur.error_test_failures;
-    std::memcpy(NV_DATA_S(I.y), y0, sizeof(double) * n);
-    std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
-    CheckFlag(IDAReInit(I.mem, t0, I.y, I.yp), "IDAReInit");
-    I.newton_rate_factor = 20.0;
-    I.t_returned = std::numeric_limits<double>::quiet_NaN();  // y holds no step's φ₀ now
-    ++I.reinits;
+    I.Reinitialize(t0, y0, yp0);
     return;
   }
-  CheckFlag(SUNContext_Create(nullptr, &I.ctx), "SUNContext_Create");
-  I.y = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
-  I.yp = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
-  I.id = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
-  I.atol = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
-  I.tmp = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
-  I.tmp2 = CheckPointer(N_VNew_Serial(n, I.ctx), "N_VNew_Serial");
-  // Fused vector operations (off by default for serial vectors) make IDAGetDky and the BDF
-  // bookkeeping single passes over memory; IDA's internal vectors are clones of y and inherit.
-  for (N_Vector v : {I.y, I.yp, I.tmp, I.tmp2}) {
-    CheckFlag(N_VEnableFusedOps_Serial(v, SUNTRUE), "N_VEnableFusedOps_Serial");
-  }
-  std::memcpy(NV_DATA_S(I.y), y0, sizeof(double) * n);
-  std::memcpy(NV_DATA_S(I.yp), yp0, sizeof(double) * n);
-  system_->DifferentialMask(NV_DATA_S(I.id));
-  I.step_scaled.assign(n, 0.0);
-  system_->StepScaledWeightMask(I.step_scaled.data());
-  system_->AbsoluteToleranceScales(NV_DATA_S(I.atol));
-  I.rel_caps.assign(n, 0.0);
-  system_->RelativeToleranceCaps(I.rel_caps.data());
-  for (int i = 0; i < n; ++i) NV_DATA_S(I.atol)[i] *= options_.abs_tol;
-
-  I.mem = CheckPointer(IDACreate(I.ctx), "IDACreate");
-  CheckFlag(IDASetErrHandlerFn(I.mem, IdaErrorHandler, &I), "IDASetErrHandlerFn");
-  CheckFlag(IDAInit(I.mem, IdaResidual, t0, I.y, I.yp), "IDAInit");
-  CheckFlag(IDASetUserData(I.mem, &I), "IDASetUserData");
-  // IDA's Newton solver with the convergence test of IdaNewtonConvTest.
-  I.NLS = CheckPointer(SUNNonlinSol_Newton(I.y, I.ctx), "SUNNonlinSol_Newton");
-  CheckFlag(IDASetNonlinearSolver(I.mem, I.NLS), "IDASetNonlinearSolver");
-  CheckFlag(SUNNonlinSolSetConvTestFn(I.NLS, IdaNewtonConvTest, &I), "SUNNonlinSolSetConvTestFn");
-  I.rel_tol = options_.rel_tol;
-  I.scale_algebraic = options_.scale_algebraic_weights_by_step;
-  I.initial_step = options_.initial_step;
-  CheckFlag(IDAWFtolerances(I.mem, IdaErrorWeights), "IDAWFtolerances");
-  CheckFlag(IDASetId(I.mem, I.id), "IDASetId");
-  CheckFlag(IDASetSuppressAlg(I.mem, options_.suppress_algebraic ? SUNTRUE : SUNFALSE),
-            "IDASetSuppressAlg");
-  CheckFlag(IDASetMaxOrd(I.mem, options_.max_order), "IDASetMaxOrd");
-  if (options_.max_step > 0.0) CheckFlag(IDASetMaxStep(I.mem, options_.max_step), "IDASetMaxStep");
-  if (options_.initial_step > 0.0) {
-    CheckFlag(IDASetInitStep(I.mem, options_.initial_step), "IDASetInitStep");
-  }
-  CheckFlag(IDASetMaxNonlinIters(I.mem, options_.max_nonlinear_iterations), "IDASetMaxNonlinIters");
-  CheckFlag(IDASetMaxConvFails(I.mem, options_.max_convergence_failures), "IDASetMaxConvFails");
-  CheckFlag(IDASetMaxErrTestFails(I.mem, options_.max_error_test_failures),
-            "IDASetMaxErrTestFails");
-  CheckFlag(IDASetNonlinConvCoef(I.mem, options_.nonlinear_convergence_coefficient),
-            "IDASetNonlinConvCoef");
-  CheckFlag(IDASetDeltaCjLSetup(I.mem, options_.jacobian_refresh_cj_change), "IDASetDeltaCjLSetup");
-
-  SUNLinearSolver inner = nullptr;
-  if (solver_kind_ == LinearSolverKind::kKlu) {
-    I.sparse = true;
-    I.pattern = system_->JacobianPattern();
-    if (I.pattern.size != n || static_cast<int>(I.pattern.col_ptr.size()) != n + 1) {
-      throw NumericalError("IdaIntegrator: the Jacobian pattern does not match the DAE size");
-    }
-    I.dense_scratch.assign(static_cast<size_t>(n) * n, 0.0);
-    I.A = CheckPointer(SUNSparseMatrix(n, n, I.pattern.nnz(), CSC_MAT, I.ctx), "SUNSparseMatrix");
-    inner = CheckPointer(SUNLinSol_KLU(I.y, I.A, I.ctx), "SUNLinSol_KLU");
-  } else {
-    I.A = CheckPointer(SUNDenseMatrix(n, n, I.ctx), "SUNDenseMatrix");
-    inner = CheckPointer(SUNLinSol_Dense(I.y, I.A, I.ctx), "SUNLinSol_Dense");
-  }
-  I.time_calls = options_.time_calls;
-  I.LS = MakeTimedSolver(inner, I.time_calls ? &I.linear_seconds : nullptr, I.ctx);
-  CheckFlag(IDASetLinearSolver(I.mem, I.LS, I.A), "IDASetLinearSolver");
-  CheckFlag(IDASetJacFn(I.mem, IdaJacobian), "IDASetJacFn");
-  const int nr = system_->num_roots();
-  if (nr > 0) {
-    CheckFlag(IDARootInit(I.mem, nr, IdaRoots), "IDARootInit");
-    CheckFlag(IDASetNoInactiveRootWarn(I.mem), "IDASetNoInactiveRootWarn");
-  }
+  I.CreateVectors(y0, yp0, options_.abs_tol);
+  I.CreateIda(t0, options_);
+  I.AttachLinearSolverAndRoots(solver_kind_);
   initialized_ = true;
 }
 
