@@ -3,6 +3,7 @@
 #include "multibody/prescribed.h"
 
 #include <Eigen/Geometry>
+#include <optional>
 
 #include "common/error.h"
 
@@ -11,86 +12,112 @@ namespace {
 
 using Rotation = Eigen::Rotation2Dd;
 
+/// The constraint rows of `jt` (into λ and μ).
+std::vector<int> RowsOf(const Joint& jt) {
+  std::vector<int> r;
+  for (int k = 0; k < jt.num_rows; ++k) r.push_back(jt.row + k);
+  return r;
+}
+
+/// Whether `body` is a body (not the ground) without modes.
+bool IsRigid(const Mechanism& model, int body) {
+  return body >= 0 && model.bodies()[body].num_modes == 0;
+}
+
 }  // namespace
 
 PrescribedMotion::PrescribedMotion(const Mechanism& model, bool enabled)
     : model_(model), full_size_(model.size()) {
-  const auto& markers = model.markers();
-  const auto& bodies = model.bodies();
-  std::vector<bool> used(bodies.size(), false);
-  auto rigid = [&](int body) { return body >= 0 && bodies[body].num_modes == 0; };
-  auto rows_of = [](const Joint& jt) {
-    std::vector<int> r;
-    for (int k = 0; k < jt.num_rows; ++k) r.push_back(jt.row + k);
-    return r;
-  };
+  std::vector<bool> used(model.bodies().size(), false);
   if (enabled) {
     for (const Joint& jt : model.joints()) {
-      Set s;
+      std::optional<Set> s;
       if (jt.kind == JointKind::kGround) {
-        s.kind = Kind::kHeld;
-        s.body = jt.body;
-        s.held = jt.ground_position;
-        s.angle = jt.ground_angle;
-        s.slots = {kX, kY, kTheta};
-        s.rows = rows_of(jt);
+        s = HeldSet(jt);
       } else if (jt.kind == JointKind::kRevolute) {
-        const Marker& a = markers[jt.marker_i];
-        const Marker& b = markers[jt.marker_j];
-        const Marker* ground = a.body < 0 ? &a : (b.body < 0 ? &b : nullptr);
-        const Marker* moving = a.body < 0 ? &b : &a;
-        if (ground == nullptr || !rigid(moving->body)) continue;
-        int driver = -1;
-        for (size_t d = 0; d < model.drivers().size(); ++d) {
-          const Driver& dr = model.drivers()[d];
-          if (dr.body == moving->body && dr.is_constraint()) driver = static_cast<int>(d);
-        }
-        if (driver < 0) continue;
-        s.kind = Kind::kDriven;
-        s.body = moving->body;
-        s.driver = driver;
-        s.pivot = ground->position;
-        s.marker = moving->position;
-        s.slots = {kX, kY, kTheta};
-        s.rows = rows_of(jt);
-        s.rows.push_back(model.drivers()[driver].row);
+        s = DrivenSet(model, jt);
       } else if (jt.kind == JointKind::kPrismatic) {
-        const Marker& guide = markers[jt.marker_i];
-        const Marker& slider = markers[jt.marker_j];
-        if (guide.body >= 0 || !rigid(slider.body)) continue;
-        const Vec2 u = Rotation(guide.angle) * jt.axis;  // guide direction (world)
-        if (u.x() != 0.0 && u.y() != 0.0) continue;      // not along a world axis
-        s.kind = Kind::kGuided;
-        s.body = slider.body;
-        s.cross_slot = u.y() == 0.0 ? kY : kX;
-        // n·(R + A ū − r_guide) = 0 with the normal n along the held world axis; θ held.
-        s.angle = guide.angle + jt.relative_angle - slider.angle;
-        const int axis = s.cross_slot == kX ? 0 : 1;
-        s.cross = guide.position(axis) - (Rotation(s.angle) * slider.position)(axis);
-        s.slots = {s.cross_slot, kTheta};
-        s.rows = rows_of(jt);
-      } else {
-        continue;
+        s = GuidedSet(model, jt);
       }
-      if (used[s.body]) continue;
-      used[s.body] = true;
-      FLEXROD_ASSERT(s.slots.size() == s.rows.size());
-      num_prescribed_ += static_cast<int>(s.slots.size());
-      sets_.push_back(std::move(s));
+      if (!s || used[s->body]) continue;
+      used[s->body] = true;
+      FLEXROD_ASSERT(s->slots.size() == s->rows.size());
+      num_prescribed_ += static_cast<int>(s->slots.size());
+      sets_.push_back(std::move(*s));
     }
   }
+  BuildIndexMaps();
+}
+
+PrescribedMotion::Set PrescribedMotion::HeldSet(const Joint& jt) {
+  Set s;
+  s.kind = Kind::kHeld;
+  s.body = jt.body;
+  s.held = jt.ground_position;
+  s.angle = jt.ground_angle;
+  s.slots = {kX, kY, kTheta};
+  s.rows = RowsOf(jt);
+  return s;
+}
+
+std::optional<PrescribedMotion::Set> PrescribedMotion::DrivenSet(const Mechanism& model,
+                                                                 const Joint& jt) {
+  const Marker& a = model.markers()[jt.marker_i];
+  const Marker& b = model.markers()[jt.marker_j];
+  const Marker* ground = a.body < 0 ? &a : (b.body < 0 ? &b : nullptr);
+  const Marker* moving = a.body < 0 ? &b : &a;
+  if (ground == nullptr || !IsRigid(model, moving->body)) return std::nullopt;
+  int driver = -1;
+  for (size_t d = 0; d < model.drivers().size(); ++d) {
+    const Driver& dr = model.drivers()[d];
+    if (dr.body == moving->body && dr.is_constraint()) driver = static_cast<int>(d);
+  }
+  if (driver < 0) return std::nullopt;
+  Set s;
+  s.kind = Kind::kDriven;
+  s.body = moving->body;
+  s.driver = driver;
+  s.pivot = ground->position;
+  s.marker = moving->position;
+  s.slots = {kX, kY, kTheta};
+  s.rows = RowsOf(jt);
+  s.rows.push_back(model.drivers()[driver].row);
+  return s;
+}
+
+std::optional<PrescribedMotion::Set> PrescribedMotion::GuidedSet(const Mechanism& model,
+                                                                 const Joint& jt) {
+  const Marker& guide = model.markers()[jt.marker_i];
+  const Marker& slider = model.markers()[jt.marker_j];
+  if (guide.body >= 0 || !IsRigid(model, slider.body)) return std::nullopt;
+  const Vec2 u = Rotation(guide.angle) * jt.axis;         // guide direction (world)
+  if (u.x() != 0.0 && u.y() != 0.0) return std::nullopt;  // not along a world axis
+  Set s;
+  s.kind = Kind::kGuided;
+  s.body = slider.body;
+  s.cross_slot = u.y() == 0.0 ? kY : kX;
+  // n·(R + A ū − r_guide) = 0 with the normal n along the held world axis; θ held.
+  s.angle = guide.angle + jt.relative_angle - slider.angle;
+  const int axis = s.cross_slot == kX ? 0 : 1;
+  s.cross = guide.position(axis) - (Rotation(s.angle) * slider.position)(axis);
+  s.slots = {s.cross_slot, kTheta};
+  s.rows = RowsOf(jt);
+  return s;
+}
+
+void PrescribedMotion::BuildIndexMaps() {
   // Dropped unknowns: p_c, v_c, μ_k; dropped rows: F1_c, F3_k, F4_k.
-  const int np = model.num_coordinates();
+  const int np = model_.num_coordinates();
   std::vector<bool> drop_unknown(full_size_, false), drop_row(full_size_, false);
   for (const Set& s : sets_) {
     for (int slot : s.slots) {
-      const int c = bodies[s.body].coordinate(slot);
+      const int c = model_.bodies()[s.body].coordinate(slot);
       drop_unknown[c] = drop_unknown[np + c] = true;
       drop_row[c] = true;
     }
     for (int k : s.rows) {
-      drop_unknown[model.mu_offset() + k] = true;
-      drop_row[model.lambda_offset() + k] = drop_row[model.mu_offset() + k] = true;
+      drop_unknown[model_.mu_offset() + k] = true;
+      drop_row[model_.lambda_offset() + k] = drop_row[model_.mu_offset() + k] = true;
     }
   }
   row_to_reduced_.assign(full_size_, -1);

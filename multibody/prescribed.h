@@ -22,6 +22,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "multibody/ida_integrator.h"
@@ -75,6 +76,16 @@ class PrescribedMotion {
     std::vector<int> slots;  ///< body slots prescribed (kX, kY, kTheta)
     std::vector<int> rows;   ///< constraint rows (into λ and μ) that fix them
   };
+  /// The set of a ground joint: its body held.
+  static Set HeldSet(const Joint& jt);
+  /// The set of a revolute between a ground marker and a rigid body that a constraint driver
+  /// turns; nullopt if the joint is not one.
+  static std::optional<Set> DrivenSet(const Mechanism& model, const Joint& jt);
+  /// The set of a prismatic whose guide is on the ground along a world axis and whose slider
+  /// is rigid; nullopt if the joint is not one.
+  static std::optional<Set> GuidedSet(const Mechanism& model, const Joint& jt);
+  /// kept_unknowns_, kept_rows_ and row_to_reduced_ from sets_ (see the file comment).
+  void BuildIndexMaps();
   /// p, v, a of the set's slots at t, in the order of Set::slots.
   void Motion(const Set& s, double t, double* p, double* v, double* a) const;
 
