@@ -119,36 +119,26 @@ Mat AxialLoadModes(const RodSpec& rod, const AssembledRod& A, const std::vector<
   return out.leftCols(kept);
 }
 
-}  // namespace
-
-/// The Craig–Bampton basis (constraint modes at the interface nodes, fixed-interface normal
-/// modes, optionally the axial-load static modes; orthonormalised for that method) into
-/// `basis`; `structured_K`: the reduced stiffness where it is known without projection.
-void CraigBamptonBasis(const RodSpec& rod, const ReductionSpec& spec, const AssembledRod& A,
-                       const std::vector<int>& free, const std::set<int>& fixed, Mat* basis_out,
-                       std::optional<Mat>* structured_K) {
-  const int ndof = rod.num_dofs(), dpn = rod.dofs_per_node();
-  Mat& basis = *basis_out;
-  std::vector<int> boundary, interior;
+/// The free dofs of the interface nodes (`boundary`, ascending) and the other free dofs
+/// (`interior`, in the order of `free`).
+void SplitInterfaceDofs(const std::vector<int>& interface_nodes, int dofs_per_node,
+                        const std::vector<int>& free, const std::set<int>& fixed,
+                        std::vector<int>* boundary, std::vector<int>* interior) {
   std::set<int> bset;
-  for (int k : spec.interface_nodes) {
-    for (int d = 0; d < dpn; ++d) {
-      if (!fixed.count(k * dpn + d)) bset.insert(k * dpn + d);
+  for (int k : interface_nodes) {
+    for (int d = 0; d < dofs_per_node; ++d) {
+      if (!fixed.count(k * dofs_per_node + d)) bset.insert(k * dofs_per_node + d);
     }
   }
-  boundary.assign(bset.begin(), bset.end());
+  boundary->assign(bset.begin(), bset.end());
   for (int d : free) {
-    if (!bset.count(d)) interior.push_back(d);
+    if (!bset.count(d)) interior->push_back(d);
   }
-  const int nb = static_cast<int>(boundary.size());
-  const int ni = static_cast<int>(interior.size());
-  Require(spec.cutoff_hz > 0.0 || spec.num_modes <= ni, "reduction.modes", spec.num_modes,
-          "more modes than the " + std::to_string(ni) +
-              " interior dofs of the rod's mesh (rod.elements = " +
-              std::to_string(rod.num_elements) + ")");
-  const SpMat Kii = SubMatrix(A.K, interior, interior);
-  const SpMat Mii = SubMatrix(A.M, interior, interior);
-  const SpMat Kib = SubMatrix(A.K, interior, boundary);
+}
+
+/// The static constraint modes Ψ = −K_ii⁻¹ K_ib (ni × nb): by the band solver in extended
+/// precision where K_ii's band allows, else by the sparse Cholesky solver.
+Mat ConstraintModes(const SpMat& Kii, const SpMat& Kib, int ni, int nb) {
   Mat Psi(ni, nb);
   if (ni > 0 && nb > 0) {
     const Mat rhs = -(Kib * Mat::Identity(nb, nb));
@@ -158,53 +148,107 @@ void CraigBamptonBasis(const RodSpec& rod, const ReductionSpec& spec, const Asse
       chol->Solve(rhs, &Psi);
     }
   }
-  EigenResult fixed_interface;
-  if (ni > 0) fixed_interface = LowestModes(Kii, Mii, spec.num_modes, spec.cutoff_hz);
-  const int k = ni > 0 ? static_cast<int>(fixed_interface.eigenvalues.size()) : 0;
-  basis = Mat::Zero(ndof, nb + k);
+  return Psi;
+}
+
+/// Φ = [ I 0 ; Ψ Φ_k ] (ndof × (nb + k)) scattered to the rod's dofs: the unit constraint
+/// columns at `boundary`, Ψ and the k fixed-interface modes at `interior`.
+Mat CraigBamptonColumns(int ndof, const std::vector<int>& boundary,
+                        const std::vector<int>& interior, const Mat& Psi,
+                        const EigenResult& fixed_interface, int k) {
+  const int nb = static_cast<int>(boundary.size());
+  const int ni = static_cast<int>(interior.size());
+  Mat basis = Mat::Zero(ndof, nb + k);
   for (int i = 0; i < nb; ++i) basis(boundary[i], i) = 1.0;
   for (int i = 0; i < ni; ++i) {
     basis.row(interior[i]).head(nb) = Psi.row(i);
     if (k > 0) basis.row(interior[i]).tail(k) = fixed_interface.eigenvectors.row(i);
   }
-  // Reduced stiffness from the Craig–Bampton block structure (Craig & Bampton 1968):
-  // K_r = diag(K_bb + K_bi Ψ, Λ); the coupling Φ_mᵀ(K_ii Ψ + K_ib) is zero and Φ_m is
-  // M-orthonormal. The projection Φᵀ K Φ forms the same matrix from products of K's
-  // largest entries (12EI/h³ ≈ 6e12 N/m at 10 000 elements) with smooth shapes, and its
-  // cancellation alone puts the reduced fundamental frequency 1e-2 below the full model's
-  // there; the Schur complement cancels once, against the boundary entries only.
+  return basis;
+}
+
+/// Reduced stiffness from the Craig–Bampton block structure (Craig & Bampton 1968):
+/// K_r = diag(K_bb + K_bi Ψ, Λ), symmetrised; the coupling Φ_mᵀ(K_ii Ψ + K_ib) is zero and Φ_m
+/// is M-orthonormal. The projection Φᵀ K Φ forms the same matrix from products of K's largest
+/// entries (12EI/h³ ≈ 6e12 N/m at 10 000 elements) with smooth shapes, and its cancellation
+/// alone puts the reduced fundamental frequency 1e-2 below the full model's there; the Schur
+/// complement cancels once, against the boundary entries only.
+Mat StructuredStiffness(const SpMat& K, const std::vector<int>& boundary, const SpMat& Kib,
+                        const Mat& Psi, const Vec& eigenvalues, int ni, int k) {
+  const int nb = static_cast<int>(boundary.size());
   Mat Kcb = Mat::Zero(nb + k, nb + k);
   if (nb > 0) {
-    Kcb.topLeftCorner(nb, nb) = Mat(SubMatrix(A.K, boundary, boundary));
+    Kcb.topLeftCorner(nb, nb) = Mat(SubMatrix(K, boundary, boundary));
     if (ni > 0) Kcb.topLeftCorner(nb, nb) += Mat(SpMat(Kib.transpose())) * Psi;
   }
-  for (int j = 0; j < k; ++j) Kcb(nb + j, nb + j) = fixed_interface.eigenvalues(j);
+  for (int j = 0; j < k; ++j) Kcb(nb + j, nb + j) = eigenvalues(j);
   Kcb = (0.5 * (Kcb + Kcb.transpose())).eval();
-  *structured_K = Kcb;
-  if (spec.axial_load_modes && dpn == 3 && ni > 0) {
-    // Fixed-interface static responses to the axial inertia loads of a rigid motion
-    // (uniform axial acceleration, and the centripetal load growing with x): ψ = K_ii⁻¹ f_i,
-    // M-orthogonalised against the basis (AxialLoadModes).
-    const Mat psi = AxialLoadModes(rod, A, interior, boundary, basis);
-    if (psi.cols() > 0) {
-      const int na = static_cast<int>(psi.cols());
-      Mat widened = Mat::Zero(ndof, nb + k + na);
-      widened.leftCols(nb + k) = basis;
-      widened.rightCols(na) = psi;
-      basis = std::move(widened);
-      structured_K->reset();  // K_r by projection: the static modes couple to the boundary
-    }
+  return Kcb;
+}
+
+/// Appends the fixed-interface static responses to the axial inertia loads of a rigid motion
+/// (uniform axial acceleration, and the centripetal load growing with x): ψ = K_ii⁻¹ f_i,
+/// M-orthogonalised against the basis (AxialLoadModes). Returns whether any was appended.
+bool AppendAxialLoadModes(const RodSpec& rod, const AssembledRod& A,
+                          const std::vector<int>& interior, const std::vector<int>& boundary,
+                          Mat* basis) {
+  const Mat psi = AxialLoadModes(rod, A, interior, boundary, *basis);
+  if (psi.cols() == 0) return false;
+  const int ndof = static_cast<int>(basis->rows()), n = static_cast<int>(basis->cols());
+  const int na = static_cast<int>(psi.cols());
+  Mat widened = Mat::Zero(ndof, n + na);
+  widened.leftCols(n) = *basis;
+  widened.rightCols(na) = psi;
+  *basis = std::move(widened);
+  return true;
+}
+
+/// Diagonalises the reduced pair; the basis becomes M-orthonormal with K diagonal, and
+/// *structured_K that diagonal K. `drop_rigid`: the frame carries rigid-body motion (no dofs
+/// fixed), so the rigid-body modes are dropped.
+void Orthonormalise(const AssembledRod& A, bool drop_rigid, Mat* basis,
+                    std::optional<Mat>* structured_K) {
+  const Mat Mr = basis->transpose() * (A.M * *basis);
+  const Mat Kr = *structured_K ? **structured_K : Mat(basis->transpose() * (A.K * *basis));
+  const EigenResult er = SmallEigen(0.5 * (Kr + Kr.transpose()), 0.5 * (Mr + Mr.transpose()));
+  const int rigid = drop_rigid ? CountRigid(er.eigenvalues) : 0;
+  const Mat E = er.eigenvectors.rightCols(er.eigenvalues.size() - rigid);
+  *basis = *basis * E;
+  *structured_K = (E.transpose() * Kr * E).eval();
+}
+
+}  // namespace
+
+/// The Craig–Bampton basis (constraint modes at the interface nodes, fixed-interface normal
+/// modes, optionally the axial-load static modes; orthonormalised for that method) into
+/// `basis`; `structured_K`: the reduced stiffness where it is known without projection.
+void CraigBamptonBasis(const RodSpec& rod, const ReductionSpec& spec, const AssembledRod& A,
+                       const std::vector<int>& free, const std::set<int>& fixed, Mat* basis_out,
+                       std::optional<Mat>* structured_K) {
+  const int ndof = rod.num_dofs(), dpn = rod.dofs_per_node();
+  std::vector<int> boundary, interior;
+  SplitInterfaceDofs(spec.interface_nodes, dpn, free, fixed, &boundary, &interior);
+  const int nb = static_cast<int>(boundary.size());
+  const int ni = static_cast<int>(interior.size());
+  Require(spec.cutoff_hz > 0.0 || spec.num_modes <= ni, "reduction.modes", spec.num_modes,
+          "more modes than the " + std::to_string(ni) +
+              " interior dofs of the rod's mesh (rod.elements = " +
+              std::to_string(rod.num_elements) + ")");
+  const SpMat Kii = SubMatrix(A.K, interior, interior);
+  const SpMat Mii = SubMatrix(A.M, interior, interior);
+  const SpMat Kib = SubMatrix(A.K, interior, boundary);
+  const Mat Psi = ConstraintModes(Kii, Kib, ni, nb);
+  EigenResult fixed_interface;
+  if (ni > 0) fixed_interface = LowestModes(Kii, Mii, spec.num_modes, spec.cutoff_hz);
+  const int k = ni > 0 ? static_cast<int>(fixed_interface.eigenvalues.size()) : 0;
+  *basis_out = CraigBamptonColumns(ndof, boundary, interior, Psi, fixed_interface, k);
+  *structured_K = StructuredStiffness(A.K, boundary, Kib, Psi, fixed_interface.eigenvalues, ni, k);
+  if (spec.axial_load_modes && dpn == 3 && ni > 0 &&
+      AppendAxialLoadModes(rod, A, interior, boundary, basis_out)) {
+    structured_K->reset();  // K_r by projection: the static modes couple to the boundary
   }
   if (spec.method == ReductionMethod::kOrthonormalCraigBampton) {
-    // Diagonalise the reduced pair; the basis becomes M-orthonormal with K diagonal. When
-    // the frame carries rigid-body motion (no dofs fixed), rigid-body modes are dropped.
-    const Mat Mr = basis.transpose() * (A.M * basis);
-    const Mat Kr = *structured_K ? Kcb : Mat(basis.transpose() * (A.K * basis));
-    const EigenResult er = SmallEigen(0.5 * (Kr + Kr.transpose()), 0.5 * (Mr + Mr.transpose()));
-    const int rigid = fixed.empty() ? CountRigid(er.eigenvalues) : 0;
-    const Mat E = er.eigenvectors.rightCols(er.eigenvalues.size() - rigid);
-    basis = basis * E;
-    *structured_K = (E.transpose() * Kr * E).eval();
+    Orthonormalise(A, fixed.empty(), basis_out, structured_K);
   }
 }
 
