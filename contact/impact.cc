@@ -10,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "contact/golden_section.h"
@@ -161,6 +162,73 @@ double EnergyPenetrationScale(const NormalLaw& law, double mass, double v0) {
   return hi;
 }
 
+/// Integrates the impact from onset (δ = 0, δ̇ = v₀) until the mass leaves the wall, locating
+/// the maximum penetration, the end of the force and the exit by bisection. Appends every
+/// accepted point to *snaps and result->loop, sets the peak penetration, its time and the
+/// contact duration, and returns the exit point. Throws NumericalError if the mass has not
+/// left after options.max_steps steps or max_duration_factor·time_scale.
+Snapshot IntegrateContact(Integrator* integ, const NormalLaw& law, double approach_speed,
+                          double time_scale, const ImpactOptions& options, ImpactResult* result,
+                          std::vector<Snapshot>* snaps) {
+  auto push = [&](const Snapshot& s) {
+    snaps->push_back(s);
+    result->loop.push_back({s.t, s.y[0], s.y[1], integ->Force(s)});
+  };
+  Snapshot cur{0.0, {0.0, approach_speed, 0.0}, InitialLawState(law)};
+  push(cur);
+  double h = time_scale * 1e-6;
+  bool exited = false;
+  const double max_time = options.max_duration_factor * time_scale;
+  for (int step = 0; !exited; ++step) {
+    if (step >= options.max_steps || cur.t > max_time) {
+      throw NumericalError(
+          "impact: the mass has not left the wall after " + FormatValue(cur.t) + " s (" +
+          std::to_string(step) + " steps; delta = " + FormatValue(cur.y[0]) +
+          " m, rate = " + FormatValue(cur.y[1]) + " m/s); the law holds it (over-damped?)");
+    }
+    const Snapshot prev = cur;
+    const double force_prev = integ->Force(prev);
+    integ->Step(&cur, &h);
+    if (prev.y[1] > 0.0 && cur.y[1] <= 0.0) {
+      // Maximum penetration: restart from it, so a history law records δ_max exactly.
+      cur = Bisect(integ, prev, cur.t, [](const Snapshot& s) { return s.y[1] > 0.0; });
+      UpdateLawHistory(law, cur.y[0], &cur.history);
+      result->peak_penetration = cur.y[0];
+      result->time_of_peak_penetration = cur.t;
+    } else if (force_prev > 0.0 && integ->Force(cur) <= 0.0 && cur.y[1] < 0.0) {
+      // The force drops to zero while receding (δ → 0, or clipped damping, or permanent set).
+      cur = Bisect(integ, prev, cur.t, [&](const Snapshot& s) { return integ->Force(s) > 0.0; });
+      result->contact_duration = cur.t;
+    }
+    if (prev.y[0] > 0.0 && cur.y[0] <= 0.0) {
+      cur = Bisect(integ, prev, cur.t, [](const Snapshot& s) { return s.y[0] > 0.0; });
+      exited = true;
+    }
+    push(cur);
+  }
+  return cur;
+}
+
+/// Peak force [N]: the largest sample of `loop`, refined by golden section between its
+/// neighbours (`snaps` are the points of `loop`, to restart from).
+double PeakForce(Integrator* integ, const std::vector<LoopSample>& loop,
+                 const std::vector<Snapshot>& snaps) {
+  size_t imax = 0;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    if (loop[i].force > loop[imax].force) imax = i;
+  }
+  double peak_force = loop[imax].force;
+  if (imax > 0 && imax + 1 < snaps.size()) {
+    const Snapshot& base = snaps[imax - 1];
+    // The maximum of the force: the minimum of its negative (negation is exact).
+    auto minus_force = [&](double t) { return -integ->Force(integ->AdvanceTo(base, t)); };
+    const GoldenBracket peak =
+        GoldenSectionMinimum(minus_force, base.t, snaps[imax + 1].t, 60, 1e-15);
+    peak_force = std::max({peak_force, -peak.f1, -peak.f2});
+  }
+  return peak_force;
+}
+
 }  // namespace
 
 void ImpactOptions::Validate() const {
@@ -191,64 +259,15 @@ ImpactResult SimulateImpact(const NormalLaw& law, double mass, double approach_s
   ImpactResult result;
   result.incoming_speed = approach_speed;
   std::vector<Snapshot> snaps;
-  auto push = [&](const Snapshot& s) {
-    snaps.push_back(s);
-    result.loop.push_back({s.t, s.y[0], s.y[1], integ.Force(s)});
-  };
-
-  Snapshot cur{0.0, {0.0, approach_speed, 0.0}, InitialLawState(law)};
-  push(cur);
-  double h = time_scale * 1e-6;
-  bool exited = false;
-  const double max_time = options.max_duration_factor * time_scale;
-  for (int step = 0; !exited; ++step) {
-    if (step >= options.max_steps || cur.t > max_time) {
-      throw NumericalError(
-          "impact: the mass has not left the wall after " + FormatValue(cur.t) + " s (" +
-          std::to_string(step) + " steps; delta = " + FormatValue(cur.y[0]) +
-          " m, rate = " + FormatValue(cur.y[1]) + " m/s); the law holds it (over-damped?)");
-    }
-    const Snapshot prev = cur;
-    const double force_prev = integ.Force(prev);
-    integ.Step(&cur, &h);
-    if (prev.y[1] > 0.0 && cur.y[1] <= 0.0) {
-      // Maximum penetration: restart from it, so a history law records δ_max exactly.
-      cur = Bisect(&integ, prev, cur.t, [](const Snapshot& s) { return s.y[1] > 0.0; });
-      UpdateLawHistory(law, cur.y[0], &cur.history);
-      result.peak_penetration = cur.y[0];
-      result.time_of_peak_penetration = cur.t;
-    } else if (force_prev > 0.0 && integ.Force(cur) <= 0.0 && cur.y[1] < 0.0) {
-      // The force drops to zero while receding (δ → 0, or clipped damping, or permanent set).
-      cur = Bisect(&integ, prev, cur.t, [&](const Snapshot& s) { return integ.Force(s) > 0.0; });
-      result.contact_duration = cur.t;
-    }
-    if (prev.y[0] > 0.0 && cur.y[0] <= 0.0) {
-      cur = Bisect(&integ, prev, cur.t, [](const Snapshot& s) { return s.y[0] > 0.0; });
-      exited = true;
-    }
-    push(cur);
-  }
-  result.exit_time = cur.t;
-  result.outgoing_speed = -cur.y[1];
+  const Snapshot exit_point =
+      IntegrateContact(&integ, law, approach_speed, time_scale, options, &result, &snaps);
+  result.exit_time = exit_point.t;
+  result.outgoing_speed = -exit_point.y[1];
   result.achieved_restitution = result.outgoing_speed / approach_speed;
   result.dissipated_energy =
       0.5 * mass *
       (approach_speed * approach_speed - result.outgoing_speed * result.outgoing_speed);
-
-  // Peak force: largest sample, refined by golden section between its neighbours.
-  size_t imax = 0;
-  for (size_t i = 0; i < result.loop.size(); ++i) {
-    if (result.loop[i].force > result.loop[imax].force) imax = i;
-  }
-  result.peak_force = result.loop[imax].force;
-  if (imax > 0 && imax + 1 < snaps.size()) {
-    const Snapshot& base = snaps[imax - 1];
-    // The maximum of the force: the minimum of its negative (negation is exact).
-    auto minus_force = [&](double t) { return -integ.Force(integ.AdvanceTo(base, t)); };
-    const GoldenBracket peak =
-        GoldenSectionMinimum(minus_force, base.t, snaps[imax + 1].t, 60, 1e-15);
-    result.peak_force = std::max({result.peak_force, -peak.f1, -peak.f2});
-  }
+  result.peak_force = PeakForce(&integ, result.loop, snaps);
   return result;
 }
 
