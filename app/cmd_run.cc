@@ -12,8 +12,10 @@
 #include "app/commands.h"
 #include "app/plotting.h"
 #include "common/error.h"
+#include "common/files.h"
 #include "input/presets.h"
-#include "io/run_files.h"
+#include "io/run_vtk.h"
+#include "io/run_writer.h"
 #include "run/run.h"
 
 namespace flexrod::app {
@@ -101,7 +103,7 @@ void PrintFigures(const RunOptions& opt, const RunResult& run) {
 }
 
 /// The accuracy check, the warnings (on stderr) and the ParaView series.
-void PrintCheckWarningsAndVtk(const RunResult& run) {
+void PrintCheckWarningsAndVtk(const RunResult& run, const std::string& vtk_dir) {
   const auto& s = run.summary;
   if (s.contains("accuracy_check")) {
     const auto& c = s["accuracy_check"];
@@ -126,10 +128,10 @@ void PrintCheckWarningsAndVtk(const RunResult& run) {
                    w.get<std::string>().c_str());
     }
   }
-  if (run.vtk && !run.vtk_collection.empty()) {
+  if (run.vtk && !vtk_dir.empty()) {
     std::printf("  paraview: %zu frames at %.6g Hz, rod deformation x%.6g -> %s\n",
                 run.vtk->frames.size(), run.vtk->frame_rate, run.vtk->options.scale,
-                run.vtk_collection.c_str());
+                VtkCollectionPath(vtk_dir).c_str());
   }
 }
 
@@ -138,18 +140,19 @@ int Run(const RunOptions& opt) {
   CheckCanCreateDirectory("--out", opt.out_dir);  // before the run, not after it
   const std::optional<Config> check_cfg =
       opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
+  if (!opt.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", opt.vtk_dir);
   RunOutputOptions outputs;
-  outputs.vtk_dir = opt.vtk_dir;
+  outputs.record_vtk = !opt.vtk_dir.empty();
   std::optional<RunPlotter> plotter;
   if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
   RunResult run = RunSimulation(cfg, nullptr, false, outputs);
   if (check_cfg && run.ok()) RunAccuracyCheck(*check_cfg, &run);
   const auto t_files = std::chrono::steady_clock::now();
-  const double bytes = WriteRunFiles(opt.out_dir, cfg, run);
+  const double bytes = WriteRun({opt.out_dir, "", opt.vtk_dir}, cfg, run);
   const double files_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_files).count();
   PrintFigures(opt, run);
-  PrintCheckWarningsAndVtk(run);
+  PrintCheckWarningsAndVtk(run, opt.vtk_dir);
   std::printf("  files: %.3g MB in %.2f s\n", bytes * 1e-6, files_seconds);
   if (plotter && run.channels.num_samples() > 1) plotter->Finish();
   if (!run.ok()) {

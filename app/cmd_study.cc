@@ -15,7 +15,7 @@
 #include "common/error.h"
 #include "common/files.h"
 #include "input/presets.h"
-#include "io/run_files.h"
+#include "io/run_writer.h"
 #include "mechanisms/mechanism_model.h"
 #include "run/reduction_study.h"
 #include "run/rigid_rig_studies.h"
@@ -83,7 +83,7 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::string dir = opt.out_dir + "/" + tag;
   const auto shared = r.ideal ? twin_dirs->find(r.ideal.get()) : twin_dirs->end();
-  WriteRunFiles(dir, cfg, r, shared == twin_dirs->end() ? "" : shared->second);
+  WriteRun({dir, shared == twin_dirs->end() ? "" : shared->second, ""}, cfg, r);
   if (r.ideal && shared == twin_dirs->end()) (*twin_dirs)[r.ideal.get()] = dir;
   if (!opt.no_plot) PlotRun(opt.out_dir + "/" + tag);  // slider acceleration against the ideal twin
   return RigidRigStudyFigures(multibody::ToString(r.status.outcome), r.summary, wall);

@@ -111,4 +111,18 @@ void CheckCanWriteFile(const std::string& key, const std::string& path) {
   }
 }
 
+void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p = fs::absolute(dir, ec);
+  if (ec) throw InputError(key, dir, "is not a usable path: " + ec.message());
+  while (!fs::exists(p, ec) && p.has_parent_path() && p.parent_path() != p) p = p.parent_path();
+  if (!fs::is_directory(p, ec)) {
+    throw InputError(key, dir, "cannot be a directory: " + p.string() + " is not a directory");
+  }
+  if (::access(p.c_str(), W_OK) != 0) {
+    throw InputError(key, dir, "cannot be created or written: " + p.string() + " is not writable");
+  }
+}
+
 }  // namespace flexrod

@@ -23,6 +23,11 @@ void CommitFile(const std::string& tmp, const std::string& path);
 /// Creates a directory and its parents if missing. Throws InputError(key, path, ...) on failure.
 void EnsureDirectory(const std::string& key, const std::string& path);
 
+/// InputError naming `key` unless `dir` is a directory or can be created as one (its nearest
+/// existing ancestor is a writable directory). Creates nothing: output locations are checked
+/// before the work, and written after it.
+void CheckCanCreateDirectory(const std::string& key, const std::string& dir);
+
 /// InputError naming `key` unless `path` can be written as a file: not a directory, in an
 /// existing writable directory. Creates nothing (checked before the work, written after it).
 void CheckCanWriteFile(const std::string& key, const std::string& path);

@@ -2,6 +2,7 @@
 #include "input/options.h"
 
 #include <array>
+#include <cmath>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -36,14 +37,18 @@ std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
   return knots;
 }
 
-/// A choice key as its enumerator: `names[i]` maps to E(i). The schema has checked the value.
-template <class E, size_t N>
-E ReadChoice(const Config& cfg, const std::string& key, const std::array<const char*, N>& names) {
+/// A choice key as its enumerator: the i-th of the schema's choices for `key` maps to E(i) (the
+/// enumerators are declared in the order of the schema's choices). The schema has checked the
+/// value.
+template <class E>
+E ReadChoice(const Config& cfg, const std::string& key) {
   const std::string value = cfg.Text(key);
-  for (size_t i = 0; i < N; ++i) {
-    if (value == names[i]) return static_cast<E>(i);
+  const ParamDef* def = FindParam(key);
+  FLEXROD_ASSERT(def != nullptr && def->kind == ParamKind::kChoice);
+  for (size_t i = 0; i < def->choices.size(); ++i) {
+    if (value == def->choices[i]) return static_cast<E>(i);
   }
-  throw std::logic_error("ReadChoice: " + key + " = " + value + " is not among its enumerators");
+  throw std::logic_error("ReadChoice: " + key + " = " + value + " is not among its choices");
 }
 
 }  // namespace
@@ -55,24 +60,21 @@ SimOptions ReadSimOptions(const Config& cfg) {
   o.rel_tol = cfg.Quantity("sim.rel_tol");
   o.abs_tol = cfg.Quantity("sim.abs_tol");
   o.max_step = cfg.Quantity("sim.max_step");
-  o.linear_solver = ReadChoice<SimOptions::LinearSolver>(cfg, "sim.linear_solver",
-                                                         std::array{"auto", "dense", "klu"});
+  o.linear_solver = ReadChoice<SimOptions::LinearSolver>(cfg, "sim.linear_solver");
   o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
   o.settle = cfg.Quantity("sim.settle");
   o.capture = cfg.Quantity("sim.capture");
   o.index_angle = cfg.Quantity("sim.index_angle");
   o.max_steps = cfg.Integer("sim.max_steps");
   o.max_wall_time = cfg.Quantity("sim.max_wall_time");
-  o.start =
-      ReadChoice<SimOptions::Start>(cfg, "sim.start", std::array{"rigid", "static", "steady"});
+  o.start = ReadChoice<SimOptions::Start>(cfg, "sim.start");
   o.steady_revolutions = cfg.Integer("sim.steady_revolutions");
   return o;
 }
 
 DriveOptions ReadDriveOptions(const Config& cfg) {
   DriveOptions d;
-  d.type =
-      ReadChoice<DriveOptions::Type>(cfg, "drive.type", std::array{"constant", "profile", "motor"});
+  d.type = ReadChoice<DriveOptions::Type>(cfg, "drive.type");
   d.speed = cfg.Quantity("drive.speed");
   d.initial_angle = cfg.Quantity("drive.initial_angle");
   // Checked whenever given, and required by a profile drive.
@@ -87,12 +89,28 @@ DriveOptions ReadDriveOptions(const Config& cfg) {
 
 DampingOptions ReadDampingOptions(const Config& cfg) {
   DampingOptions d;
-  d.type = ReadChoice<DampingOptions::Type>(cfg, "damping.type",
-                                            std::array{"band", "ratio", "rayleigh"});
+  d.type = ReadChoice<DampingOptions::Type>(cfg, "damping.type");
   d.ratio = cfg.Quantity("damping.ratio");
   d.alpha = cfg.Quantity("damping.alpha");
   d.beta = cfg.Quantity("damping.beta");
   return d;
+}
+
+void VtkOptions::Validate() const {
+  Require(rate > 0.0 && std::isfinite(rate), "vtk.rate", rate,
+          "must be a finite frame rate > 0 Hz");
+  Require(scale >= 0.0 && std::isfinite(scale), "vtk.scale", scale, "must be a finite factor >= 0");
+  Require(duration >= 0.0 && std::isfinite(duration), "vtk.duration", duration,
+          "must be >= 0 s (0 = the whole capture)");
+}
+
+VtkOptions ReadVtkOptions(const Config& cfg) {
+  VtkOptions o;
+  o.rate = cfg.Quantity("vtk.rate");
+  o.scale = cfg.Quantity("vtk.scale");
+  o.duration = cfg.Quantity("vtk.duration");
+  o.Validate();
+  return o;
 }
 
 }  // namespace flexrod

@@ -69,4 +69,21 @@ struct DampingOptions {
 
 DampingOptions ReadDampingOptions(const Config& cfg);
 
+/// vtk.*: the ParaView frames of `flexrod run --vtk` (run/vtk.h). Frames are taken from the
+/// run's output samples (no extra integration): every stride-th sample of the capture window,
+/// stride = max(1, round(sim.sample_rate / rate)), so the frame rate is sim.sample_rate / stride
+/// (exactly `rate` when it divides the sample rate, otherwise the nearest such rate, at most
+/// sim.sample_rate).
+struct VtkOptions {
+  double rate{1000.0};   ///< requested frame rate [Hz], > 0 (key vtk.rate)
+  double scale{100.0};   ///< deformation scale factor s [1], >= 0 (key vtk.scale)
+  double duration{0.0};  ///< window written from the capture start [s], >= 0; 0 = the whole
+                         ///< capture (key vtk.duration)
+  /// Throws InputError naming the vtk.* key, the value and the rule.
+  void Validate() const;
+};
+
+/// Reads and validates vtk.rate, vtk.scale, vtk.duration.
+VtkOptions ReadVtkOptions(const Config& cfg);
+
 }  // namespace flexrod

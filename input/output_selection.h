@@ -1,5 +1,5 @@
 // input/output_selection.h — the output.* keys of a run, read and checked once: which channels
-// its files hold, at which rate, in which formats. The files themselves: io/run_files.h.
+// its files hold, at which rate, in which formats. The files themselves: io/run_writer.h.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 

@@ -1,8 +1,9 @@
 // mechanisms/mechanism_recipe.h — one kind of mechanism (mechanism.type) as a recipe: what it
 // builds around the connecting rod, the coordinates it holds for the rod's modes in the assembled
-// mechanism, the channels it records, and how a run of it starts and is captured. The rod itself
-// (rigid, reduced, exact; clamps, gauges, deflection, energies) is shared by every recipe
-// (mechanisms/mechanism_model.cc, run/run_setup.cc).
+// mechanism, the channels it records, how a run of it starts and is captured, and how its own
+// parts are drawn. The rod itself (rigid, reduced, exact; clamps, gauges, deflection, energies,
+// its drawing) is shared by every recipe (mechanisms/mechanism_model.cc, run/run_setup.cc,
+// run/vtk.cc).
 //
 // A new mechanism is one file that defines its recipe and one line in the list of FindRecipe
 // (mechanisms/mechanism_recipe.cc); docs/architecture.md shows the steps.
@@ -10,10 +11,12 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "input/config.h"
+#include "mechanisms/drawing.h"
 #include "mechanisms/impact_log.h"
 #include "mechanisms/mechanism_model.h"
 #include "mechanisms/recorder.h"
@@ -60,6 +63,14 @@ class MechanismRecipe {
   virtual RunWindow SetUpRun(const SimOptions& sim, const MechanismModel& mm,
                              multibody::InitialConditionSpec* ic,
                              multibody::SimulationOptions* opt) const = 0;
+
+  /// Lays out its own parts in the drawing of a run (mechanisms/drawing.h) beyond what every
+  /// mechanism's drawing has (the rod with its clamp arms, the crank where there is one, a
+  /// clearance joint's circles): its points (layout->AddPoints) and cells. Returns what draws
+  /// them in each frame, or nullptr when it has no parts of its own.
+  virtual std::unique_ptr<study::PartsDrawing> LayOutParts(const Config& cfg,
+                                                           const MechanismModel& mm,
+                                                           study::VtkLayout* layout) const = 0;
 };
 
 /// Parts a recipe with a driven crank shares. The crank (crank.*) on its ground pivot at the

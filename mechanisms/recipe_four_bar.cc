@@ -95,7 +95,40 @@ class FourBar final : public MechanismRecipe {
     return {sim.settle, 0.0};
   }
 
+  std::unique_ptr<study::PartsDrawing> LayOutParts(const Config& cfg, const MechanismModel& mm,
+                                                   study::VtkLayout* layout) const override {
+    layout->rocker_axis = layout->AddPoints(1);
+    layout->rocker_tip = layout->AddPoints(1);
+    layout->cells.push_back(
+        {study::kVtkLine, study::VtkPart::kRocker, {layout->rocker_axis, layout->rocker_tip}});
+    return std::make_unique<RockerDrawing>(mm, cfg.Quantity("rocker.length"), layout->rocker_axis,
+                                           layout->rocker_tip);
+  }
+
  private:
+  /// The rocker: its pivot (its frame's origin) to its tip, rocker.length along its x axis.
+  class RockerDrawing final : public study::PartsDrawing {
+   public:
+    RockerDrawing(const MechanismModel& mm, double length, int axis, int tip)
+        : length_(length), axis_(axis), tip_(tip) {
+      const multibody::Mechanism& m = mm.mechanism;
+      const multibody::BodyId rocker = m.FindBody("rocker");
+      x_ = m.coordinate(rocker, multibody::kX);
+      y_ = m.coordinate(rocker, multibody::kY);
+      theta_ = m.coordinate(rocker, multibody::kTheta);
+    }
+    void Draw(const multibody::SampleView& s, study::VtkFrame* f) const override {
+      const Vec2 pivot(s.coordinate(x_), s.coordinate(y_));
+      f->points[axis_] = pivot;
+      f->points[tip_] = pivot + Rotation(s.coordinate(theta_)) * Vec2(length_, 0.0);
+    }
+
+   private:
+    double length_;  ///< [m]
+    int axis_, tip_;
+    int x_{0}, y_{0}, theta_{0};  ///< the rocker's coordinates
+  };
+
   /// A crank-rocker: the crank pin's distance to the rocker pivot, between |d − r| and d + r,
   /// must stay within the reach of rod and rocker, [|ell − c|, ell + c] (Grashof).
   static void CheckCrankTurns(double r, double ell, double c, double d) {

@@ -44,6 +44,13 @@ class Pendulum final : public MechanismRecipe {
     ic->fixed_velocities = {rod_theta};
     return {sim.settle, 0.0};
   }
+
+  /// The rod is the whole pendulum: nothing of its own to draw.
+  std::unique_ptr<study::PartsDrawing> LayOutParts(const Config& /*cfg*/,
+                                                   const MechanismModel& /*mm*/,
+                                                   study::VtkLayout* /*layout*/) const override {
+    return nullptr;
+  }
 };
 
 }  // namespace

@@ -102,7 +102,48 @@ class SliderCrank final : public MechanismRecipe {
   RunWindow SetUpRun(const SimOptions& sim, const MechanismModel& mm,
                      multibody::InitialConditionSpec* ic,
                      multibody::SimulationOptions* opt) const override;
+
+  std::unique_ptr<study::PartsDrawing> LayOutParts(const Config& cfg, const MechanismModel& mm,
+                                                   study::VtkLayout* layout) const override;
 };
+
+/// The slider: a rectangle centred on the journal, aligned with the journal marker. Its size is
+/// a drawing size, not physics: kHalfLength × kHalfHeight bush radii, long enough along the
+/// guide to read as a block, high enough to enclose the pin circle.
+class SliderDrawing final : public study::PartsDrawing {
+ public:
+  static constexpr double kHalfLength = 2.0, kHalfHeight = 1.25;  ///< [bush radii]
+
+  SliderDrawing(multibody::MarkerId journal, int first, double bush_radius)
+      : journal_(journal),
+        first_(first),
+        half_length_(kHalfLength * bush_radius),
+        half_height_(kHalfHeight * bush_radius) {}
+
+  void Draw(const multibody::SampleView& s, study::VtkFrame* f) const override {
+    const multibody::MarkerKinematics& journal = s.Marker(journal_);
+    const Mat2 A = Rotation(journal.angle);
+    const double a = half_length_, b = half_height_;
+    const Vec2 corners[4] = {Vec2(-a, -b), Vec2(a, -b), Vec2(a, b), Vec2(-a, b)};
+    for (int i = 0; i < 4; ++i) f->points[first_ + i] = journal.position + A * corners[i];
+  }
+
+ private:
+  multibody::MarkerId journal_;
+  int first_;
+  double half_length_, half_height_;  ///< [m]
+};
+
+std::unique_ptr<study::PartsDrawing> SliderCrank::LayOutParts(const Config& cfg,
+                                                              const MechanismModel& mm,
+                                                              study::VtkLayout* layout) const {
+  const double bush = cfg.Quantity("joint.bush_radius");
+  RequirePositive("joint.bush_radius", bush);
+  const int first = layout->slider_first = layout->AddPoints(4);
+  layout->cells.push_back(
+      {study::kVtkQuad, study::VtkPart::kSlider, {first, first + 1, first + 2, first + 3}});
+  return std::make_unique<SliderDrawing>(mm.journal, first, bush);
+}
 
 void SliderCrank::DefineChannels(const MechanismModel& mm, Recorder* rec,
                                  study::ImpactLogger* impacts) const {

@@ -1,6 +1,6 @@
 // python/flexrod_module.cc — the compiled part of the Python package `flexrod` (module
 // flexrod._flexrod): thin bindings of the library functions the CLI calls (LoadRunInput +
-// RunSimulation + WriteRunFiles, AnalyseModes, SimulateContactImpact, RunSweep, ReadStore,
+// RunSimulation + WriteRun, AnalyseModes, SimulateContactImpact, RunSweep, ReadStore,
 // the key schema). It returns plain dicts of numpy arrays, numbers and strings; the Python
 // layer (python/flexrod/__init__.py) turns them into Run objects and raises NumericalError.
 // Runs and sweeps compute on a worker thread with the GIL released; the calling thread checks
@@ -25,10 +25,11 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/files.h"
 #include "common/units.h"
 #include "input/config.h"
 #include "input/presets.h"
-#include "io/run_files.h"
+#include "io/run_writer.h"
 #include "mechanisms/impact_log.h"
 #include "mechanisms/modal_analysis.h"
 #include "run/contact_impact.h"
@@ -131,7 +132,7 @@ py::dict RunInput(const std::string& input, const std::vector<std::string>& sets
     if (stop->load()) throw Interrupted("run interrupted");
     return r;
   });
-  if (out) WriteRunFiles(*out, cfg, run);
+  if (out) WriteRun({*out, "", ""}, cfg, run);
   py::dict d, channels, units, impacts, impact_units;
   d["ok"] = run.ok();
   d["status"] = StatusDict(run.status);

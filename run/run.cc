@@ -19,6 +19,7 @@
 #include "mechanisms/exact_rod_view.h"
 #include "mechanisms/mechanism_recipe.h"
 #include "run/run_setup.h"
+#include "run/vtk.h"
 #include "signals/signals.h"
 
 namespace flexrod {
@@ -350,14 +351,14 @@ void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 }
 
-/// A run of `mm`, built from `cfg` (BuildMechanism(cfg, rod, ideal_joint)); `wall0` is when
-/// its building began (sim.max_wall_time counts from there).
-RunResult RunOne(const Config& cfg, MechanismModel mm, bool ideal_joint,
+/// A run of `mm`, built from `cfg` (BuildMechanism(cfg, rod, ideal_joint)), with `sim` from
+/// CheckRunInput(cfg, the run's mechanism); `wall0` is when its building began
+/// (sim.max_wall_time counts from there).
+RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bool ideal_joint,
                  std::chrono::steady_clock::time_point wall0, MechanismModel* model_out,
-                 const study::VtkOptions* vtk_options = nullptr, bool profile = false,
+                 const VtkOptions* vtk_options = nullptr, bool profile = false,
                  const std::atomic<bool>* stop = nullptr) {
   const multibody::Mechanism& m = mm.mechanism;
-  const SimOptions sim = CheckRunInput(cfg, mm);
   multibody::InitialConditionSpec ic;
   multibody::SimulationOptions opt = RunOptions(sim, mm, wall0, profile, stop, &ic);
   const double capture = sim.capture;
@@ -426,54 +427,31 @@ RunResult RunOne(const Config& cfg, MechanismModel mm, bool ideal_joint,
   return out;
 }
 
-/// Throws InputError(key, dir, ...) unless `dir` is a directory or could be created as one
-/// (its nearest existing ancestor is a writable directory). Creates nothing: bad input
-/// writes nothing.
 }  // namespace
-
-void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::path p = fs::absolute(dir, ec);
-  if (ec) throw InputError(key, dir, "is not a usable path: " + ec.message());
-  while (!fs::exists(p, ec) && p.has_parent_path() && p.parent_path() != p) p = p.parent_path();
-  if (!fs::is_directory(p, ec)) {
-    throw InputError(key, dir, "cannot be a directory: " + p.string() + " is not a directory");
-  }
-  if (::access(p.c_str(), W_OK) != 0) {
-    throw InputError(key, dir, "cannot be created or written: " + p.string() + " is not writable");
-  }
-}
 
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
                         bool ideal_joint, const RunOutputOptions& outputs) {
-  std::optional<study::VtkOptions> vtk_options;
-  if (outputs.record_vtk || !outputs.vtk_dir.empty()) {
-    vtk_options = study::VtkOptions::FromConfig(cfg);  // bad vtk.* keys fail before any work
-    if (!outputs.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", outputs.vtk_dir);
-  }
+  std::optional<VtkOptions> vtk_options;
+  if (outputs.record_vtk) vtk_options = ReadVtkOptions(cfg);  // bad vtk.* keys fail before any work
   const auto wall0 = std::chrono::steady_clock::now();
   MechanismModel built = BuildMechanism(cfg, std::move(rod), ideal_joint);
   // The ideal-joint twin of a clearance run: same mechanism, same rod, same capture window. With
   // a second core and no twin cache (a sweep's or study's workers already fill the cores), it
   // runs beside the run, on the run's rod.
   const bool needs_twin = built.clearance.index >= 0 && built.recipe->turns_a_crank();
-  auto run_twin = [&cfg, stop = outputs.stop](std::shared_ptr<const fem::ReducedRod> twin_rod) {
+  const SimOptions sim = CheckRunInput(cfg, built);  // a bad input starts no run and no twin
+  auto run_twin = [cfg, sim, stop = outputs.stop](std::shared_ptr<const fem::ReducedRod> twin_rod) {
     const auto twin_wall0 = std::chrono::steady_clock::now();
     return std::make_shared<const RunResult>(
-        RunOne(cfg, BuildMechanism(cfg, std::move(twin_rod), true), true, twin_wall0, nullptr,
+        RunOne(cfg, sim, BuildMechanism(cfg, std::move(twin_rod), true), true, twin_wall0, nullptr,
                nullptr, false, stop));
   };
   std::future<std::shared_ptr<const RunResult>> twin_beside;
-  if (needs_twin && outputs.twins == nullptr && std::thread::hardware_concurrency() > 1) {
-    CheckRunInput(cfg, built);  // a bad input starts no twin
+  if (needs_twin && outputs.twins == nullptr && std::thread::hardware_concurrency() > 1)
     twin_beside = std::async(std::launch::async, run_twin, built.rod);
-  }
   MechanismModel mm;
-  RunResult out = RunOne(cfg, std::move(built), ideal_joint, wall0, &mm,
+  RunResult out = RunOne(cfg, sim, std::move(built), ideal_joint, wall0, &mm,
                          vtk_options ? &*vtk_options : nullptr, outputs.profile, outputs.stop);
-  if (out.vtk && !outputs.vtk_dir.empty())
-    out.vtk_collection = study::WriteVtkSeries(outputs.vtk_dir, *out.vtk);
   if (mm.clearance.index < 0 || out.channels.num_samples() < 3) return out;
   bool computed = false;
   auto compute_twin = [&] {

@@ -2,7 +2,7 @@
 // rig's rate inside the capture window (after settling, triggered at the index angle), turned
 // into unit-carrying channels and a summary. What does not live here: the equations
 // (multibody/), the signal analysis (signals/signals.h), the files a run writes
-// (io/run_files.h), sweeps (sweep/sweep.h).
+// (io/run_writer.h), sweeps (sweep/sweep.h).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
@@ -17,10 +17,10 @@
 
 #include "common/once_cache.h"
 #include "input/config.h"
+#include "mechanisms/drawing.h"
 #include "mechanisms/impact_log.h"
 #include "mechanisms/mechanism_model.h"
 #include "multibody/simulate.h"
-#include "run/vtk.h"
 #include "signals/signals.h"
 #include "signals/timeseries.h"
 
@@ -39,7 +39,6 @@ struct RunResult {
   std::optional<study::SignalSummary> slider_acceleration, bearing_force;
   std::vector<study::Impact> impacts;   ///< impact log of the captured window (clearance runs)
   std::optional<study::VtkSeries> vtk;  ///< ParaView frames of the captured window, if requested
-  std::string vtk_collection;           ///< path of the written .pvd, "" if none was written
   bool ok() const { return status.ok(); }
 };
 
@@ -79,13 +78,9 @@ class TwinCache {
 /// a TwinCache; otherwise the defaults (nothing extra).
 struct RunOutputOptions {
   /// Record ParaView frames (vtk.* keys, run/vtk.h) of the captured window of the run (not
-  /// of its ideal-joint twin) into RunResult::vtk.
+  /// of its ideal-joint twin) into RunResult::vtk (also after a numerical failure: the frames
+  /// up to it). The vtk.* keys are checked before any work starts. io/run_writer.h writes them.
   bool record_vtk{false};
-  /// If non-empty: record them (implies record_vtk) and write them into this directory as
-  /// run_NNNNNN.vtu + run.pvd after the run (also after a numerical failure: the frames up to
-  /// it). The vtk.* keys and the directory (it must exist or be creatable) are checked before
-  /// any work starts; the directory is created only when the frames are written.
-  std::string vtk_dir;
   /// Profile the run (not its twin): time each force element (multibody::SimulationOptions::
   /// time_elements) and the integrator's residuals, Jacobians and linear solves
   /// (IntegratorOptions::time_calls), and report them in summary["integrator"]
@@ -107,11 +102,6 @@ struct RunOutputOptions {
 /// A numerical failure is reported in the status; the channels up to it are kept.
 RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod = nullptr,
                         bool ideal_joint = false, const RunOutputOptions& outputs = {});
-
-/// InputError naming `key` unless `dir` is a directory or can be created as one (its nearest
-/// existing ancestor is a writable directory). Creates nothing: output locations are checked
-/// before the work, and written after it.
-void CheckCanCreateDirectory(const std::string& key, const std::string& dir);
 
 /// The accuracy estimate of `flexrod run --check`: `cfg` with sim.rel_tol and sim.abs_tol
 /// 100 times tighter (InputError if that goes below the integrator's floor).

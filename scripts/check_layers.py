@@ -100,7 +100,7 @@ def selftest():
             "multibody/kernels.h": "// multibody/kernels.h — Internal to multibody/.\n",
             "multibody/dae.cc": '#include "multibody/kernels.h"\n',
             "run/run_setup.cc": '#include "multibody/dae.h"\n#include "multibody/kernels.h"\n',
-            "sweep/sweep.cc": '#include "run/run.h"\n#include "io/run_files.h"\n',
+            "sweep/sweep.cc": '#include "run/run.h"\n#include "io/run_writer.h"\n',
             "input/config.cc": '#include "contact/normal_law.h"\n#include "mechanisms/recipe.h"\n',
         }
         for name, text in files.items():
@@ -112,7 +112,7 @@ def selftest():
                     "run/run.cc includes app/commands.h",
                     "python/module.cc includes app/cli.h",
                     "run/run_setup.cc includes multibody/kernels.h",
-                    "sweep/sweep.cc includes io/run_files.h",
+                    "sweep/sweep.cc includes io/run_writer.h",
                     "input/config.cc includes mechanisms/recipe.h"]
         for e in expected:
             if not any(v.startswith(e) for v in bad):

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "common/hdf5.h"
-#include "io/run_files.h"
+#include "io/run_writer.h"
 #include "sweep/sweep_store.h"
 
 namespace {
