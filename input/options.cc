@@ -37,21 +37,26 @@ std::vector<std::pair<double, double>> ParseProfile(const std::string& text) {
   return knots;
 }
 
-/// A choice key as its enumerator: the i-th of the schema's choices for `key` maps to E(i) (the
-/// enumerators are declared in the order of the schema's choices). The schema has checked the
-/// value.
+/// A choice key as its enumerator E(ChoiceIndex).
 template <class E>
 E ReadChoice(const Config& cfg, const std::string& key) {
-  const std::string value = cfg.Text(key);
-  const ParamDef* def = FindParam(key);
-  FLEXROD_ASSERT(def != nullptr && def->kind == ParamKind::kChoice);
-  for (size_t i = 0; i < def->choices.size(); ++i) {
-    if (value == def->choices[i]) return static_cast<E>(i);
-  }
-  throw std::logic_error("ReadChoice: " + key + " = " + value + " is not among its choices");
+  return static_cast<E>(ChoiceIndex(cfg, key));
 }
 
 }  // namespace
+
+int ChoiceIndex(const Config& cfg, const std::string& key) {
+  const std::string value = cfg.Text(key);
+  const ParamDef* def = FindParam(key);
+  if (def == nullptr || def->kind != ParamKind::kChoice)
+    throw std::logic_error("ChoiceIndex: " + key + " is not a choice key");
+  for (size_t i = 0; i < def->choices.size(); ++i) {
+    if (value == def->choices[i]) return static_cast<int>(i);
+  }
+  throw std::logic_error("ChoiceIndex: " + key + " = " + value + " is not among its choices");
+}
+
+RodModel ReadRodModel(const Config& cfg) { return ReadChoice<RodModel>(cfg, "rod.type"); }
 
 SimOptions ReadSimOptions(const Config& cfg) {
   SimOptions o;

@@ -14,6 +14,15 @@
 
 namespace flexrod {
 
+/// The index of a choice key's value among the schema's choices for it (input/config_schema.cc):
+/// the typed options declare their enumerators in that order and cast it. The schema has
+/// checked the value; a key that is not a choice is a logic error.
+int ChoiceIndex(const Config& cfg, const std::string& key);
+
+/// rod.type: the connecting rod's model.
+enum class RodModel { kFlexible, kExact, kRigid };  ///< in the order of the schema's choices
+RodModel ReadRodModel(const Config& cfg);
+
 /// sim.*: the run's window, the integrator's tolerances and limits, the start.
 struct SimOptions {
   enum class Start { kRigid, kStatic, kSteady };    ///< in the order of the schema's choices

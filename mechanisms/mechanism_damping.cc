@@ -8,7 +8,7 @@
 namespace flexrod {
 
 bool DampingRefersToMechanism(const Config& cfg) {
-  if (cfg.Text("rod.type") == "rigid") return false;
+  if (ReadRodModel(cfg) == RodModel::kRigid) return false;
   const DampingOptions d = ReadDampingOptions(cfg);
   if (d.type == DampingOptions::Type::kBand) return true;
   if (d.type != DampingOptions::Type::kRatio) return false;

@@ -74,11 +74,11 @@ static fem::RodSpec RodWithClamps(const Config& cfg, bool small_clamp) {
 }
 
 bool SmallClampIsABody(const Config& cfg) {
-  return cfg.Text("rod.type") == "flexible" && cfg.Quantity("clamp.small_mass") > 0.0;
+  return ReadRodModel(cfg) == RodModel::kFlexible && cfg.Quantity("clamp.small_mass") > 0.0;
 }
 
 std::shared_ptr<const fem::ReducedRod> BuildReducedRod(const Config& cfg) {
-  if (cfg.Text("rod.type") != "flexible") return nullptr;
+  if (ReadRodModel(cfg) != RodModel::kFlexible) return nullptr;
   const fem::RodSpec rod = RodWithClamps(cfg, !SmallClampIsABody(cfg));
   const fem::ReductionSpec spec = MechanismReductionFromConfig(cfg, rod);
   return std::make_shared<const fem::ReducedRod>(fem::Reduce(rod, spec));
@@ -172,13 +172,13 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   out.drive = ReadDriveOptions(cfg);
   out.damping = ReadDampingOptions(cfg);
   multibody::MechanismBuilder b;
-  const bool flexible = cfg.Text("rod.type") == "flexible";
+  const bool flexible = ReadRodModel(cfg) == RodModel::kFlexible;
   if (flexible && !rod) rod = BuildReducedRod(cfg);
   out.rod = rod;
   const double length = cfg.Quantity("rod.length");
   const Vec2 big_offset(cfg.Quantity("rod.big_end_x"), cfg.Quantity("rod.big_end_y"));
   const Vec2 small_offset(cfg.Quantity("rod.small_end_x"), cfg.Quantity("rod.small_end_y"));
-  const bool exact = cfg.Text("rod.type") == "exact";
+  const bool exact = ReadRodModel(cfg) == RodModel::kExact;
   // The joint points in the rod frame (undeformed).
   const Vec2 small_point = Vec2(length, 0.0) + small_offset;
   out.rod_length = length;
@@ -246,7 +246,7 @@ MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
 
 MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod,
                               bool ideal_joint) {
-  if (cfg.Text("rod.type") == "exact") return BuildExactRodMechanism(cfg, ideal_joint);
+  if (ReadRodModel(cfg) == RodModel::kExact) return BuildExactRodMechanism(cfg, ideal_joint);
   if (!DampingRefersToMechanism(cfg))
     return BuildMechanismPass(cfg, std::move(rod), ideal_joint, nullptr);
   // Modal damping refers to the rod's modes in the assembled mechanism: build it undamped (ideal

@@ -1,5 +1,5 @@
 // Tests of the typed options (input/options.h): every choice the schema offers for sim.start,
-// sim.linear_solver, drive.type and damping.type reads as the enumerator of its position; the
+// sim.linear_solver, drive.type, damping.type and rod.type reads as its named enumerator; the
 // quantities arrive in SI; drive.profile is read in rpm and stored in rad/s, and a malformed
 // profile is refused naming the key whatever drive.type is.
 // SPDX-License-Identifier: GPL-3.0-or-later
@@ -10,6 +10,8 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/error.h"
 #include "input/config.h"
@@ -24,31 +26,55 @@ const ParamDef& Def(const std::string& key) {
   throw std::logic_error("no key " + key);
 }
 
-/// Each choice of `key`, set, reads as the enumerator of its position in the schema.
-void ExpectChoicesInSchemaOrder(const std::string& key,
-                                const std::function<int(const Config&)>& read) {
-  const std::vector<std::string>& choices = Def(key).choices;
-  ASSERT_GE(choices.size(), 2u) << key;
-  for (size_t i = 0; i < choices.size(); ++i) {
+/// The schema's choices for `key` are exactly the names listed, each read (by `read`) as the
+/// enumerator listed beside it: an enumerator declared out of the schema's order, or a choice
+/// added to the schema without its enumerator, fails.
+template <class E>
+void ExpectChoices(const std::string& key, const std::vector<std::pair<std::string, E>>& named,
+                   const std::function<E(const Config&)>& read) {
+  std::vector<std::string> names;
+  for (const auto& [name, e] : named) {
+    names.push_back(name);
     Config cfg;
-    cfg.Set(key, choices[i]);
-    EXPECT_EQ(read(cfg), static_cast<int>(i)) << key << " = " << choices[i];
+    cfg.Set(key, name);
+    EXPECT_EQ(static_cast<int>(read(cfg)), static_cast<int>(e)) << key << " = " << name;
   }
+  EXPECT_EQ(Def(key).choices, names) << key;
 }
 
-TEST(Options, EveryChoiceOfTheSchemaReadsAsItsEnumerator) {
-  ExpectChoicesInSchemaOrder(
-      "sim.start", [](const Config& c) { return static_cast<int>(ReadSimOptions(c).start); });
-  ExpectChoicesInSchemaOrder("sim.linear_solver", [](const Config& c) {
-    return static_cast<int>(ReadSimOptions(c).linear_solver);
-  });
-  ExpectChoicesInSchemaOrder(
-      "damping.type", [](const Config& c) { return static_cast<int>(ReadDampingOptions(c).type); });
-  ExpectChoicesInSchemaOrder("drive.type", [&](const Config& c) {
-    Config both = c;
-    both.Set("drive.profile", "0 s:0, 1 s:60");
-    return static_cast<int>(ReadDriveOptions(both).type);
-  });
+TEST(Options, EveryChoiceOfTheSchemaReadsAsItsNamedEnumerator) {
+  using Start = SimOptions::Start;
+  ExpectChoices<Start>(
+      "sim.start",
+      {{"rigid", Start::kRigid}, {"static", Start::kStatic}, {"steady", Start::kSteady}},
+      [](const Config& c) { return ReadSimOptions(c).start; });
+  using Solver = SimOptions::LinearSolver;
+  ExpectChoices<Solver>("sim.linear_solver",
+                        {{"auto", Solver::kAuto}, {"dense", Solver::kDense}, {"klu", Solver::kKlu}},
+                        [](const Config& c) { return ReadSimOptions(c).linear_solver; });
+  using Damping = DampingOptions::Type;
+  ExpectChoices<Damping>(
+      "damping.type",
+      {{"band", Damping::kBand}, {"ratio", Damping::kRatio}, {"rayleigh", Damping::kRayleigh}},
+      [](const Config& c) { return ReadDampingOptions(c).type; });
+  using Drive = DriveOptions::Type;
+  ExpectChoices<Drive>(
+      "drive.type",
+      {{"constant", Drive::kConstant}, {"profile", Drive::kProfile}, {"motor", Drive::kMotor}},
+      [](const Config& c) {
+        Config both = c;
+        both.Set("drive.profile", "0 s:0, 1 s:60");
+        return ReadDriveOptions(both).type;
+      });
+  ExpectChoices<RodModel>(
+      "rod.type",
+      {{"flexible", RodModel::kFlexible}, {"exact", RodModel::kExact}, {"rigid", RodModel::kRigid}},
+      ReadRodModel);
+}
+
+TEST(Options, AKeyThatIsNotAChoiceHasNoChoiceIndex) {
+  Config cfg;
+  EXPECT_THROW((void)ChoiceIndex(cfg, "sim.capture"), std::logic_error);
 }
 
 TEST(Options, QuantitiesArriveInSI) {
