@@ -71,7 +71,7 @@ void ExpectSameStores(const std::string& a, const std::string& b) {
 
 /// The reference store: sweep-small on one thread. ctest runs every test in its own process,
 /// so the first process to compute it publishes it under a name keyed by the binary and the
-/// matrix (rename: complete or absent), and later processes reuse it.
+/// matrix (rename: complete or absent), and later processes copy it.
 std::string ReferenceStore(Result* run = nullptr) {
   auto stamp = [](const fs::path& p) {
     struct stat st {};
@@ -82,22 +82,28 @@ std::string ReferenceStore(Result* run = nullptr) {
   const fs::path shared =
       fs::temp_directory_path() /
       ("flexrod_sweep_cli_ref_" + stamp(FLEXROD_BINARY) + "_" + stamp(Small()) + ".h5");
-  if (!run && fs::exists(shared)) return shared.string();
+  // A copy of its own: another build's tests may remove the shared one as stale meanwhile.
   const std::string local = (Dir() / "ref.h5").string();
+  std::error_code copied;
+  if (!run) fs::copy_file(shared, local, fs::copy_options::overwrite_existing, copied);
+  if (!run && !copied && fs::exists(local)) return local;
   const Result r =
       Flexrod("sweep " + Small() + " --jobs 1 " + (run ? "" : "--no-plot ") + "--out " + local);
   if (run) *run = r;
   if (r.exit_code != 0) return local;
+  // Tests run in parallel processes: another one may publish the same reference at the same
+  // time (either copy will do), and its copy in flight (shared.<pid>) is not stale.
   const fs::path tmp = shared.string() + "." + std::to_string(getpid());
-  fs::copy_file(local, tmp, fs::copy_options::overwrite_existing);
-  fs::rename(tmp, shared);
+  std::error_code ec;
+  fs::copy_file(local, tmp, fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(tmp, shared, ec);
+  if (ec) fs::remove(tmp, ec);
   // References of older binaries are stale: remove them.
+  const std::string current = shared.filename().string();
   for (const auto& e : fs::directory_iterator(fs::temp_directory_path())) {
     const std::string name = e.path().filename().string();
-    if (name.rfind("flexrod_sweep_cli_ref_", 0) == 0 && e.path() != shared) {
-      std::error_code ec;
+    if (name.rfind("flexrod_sweep_cli_ref_", 0) == 0 && name.rfind(current, 0) != 0)
       fs::remove(e.path(), ec);
-    }
   }
   return local;
 }
