@@ -80,8 +80,7 @@ bool SolveBandedExtended(const SpMat& A, const Mat& B, Mat* X, int max_band) {
 /// in x. Each is made M-orthogonal to `basis` (Gram–Schmidt, twice) and M-normalised; one
 /// that the basis already spans (to 1e-8 of its norm) is dropped.
 Mat AxialLoadModes(const RodSpec& rod, const AssembledRod& A, const std::vector<int>& interior,
-                   const std::vector<int>& boundary, const Mat& basis) {
-  (void)boundary;
+                   const Mat& basis) {
   const int ndof = rod.num_dofs();
   const int ni = static_cast<int>(interior.size());
   Mat loads = Mat::Zero(ndof, 2);
@@ -190,9 +189,8 @@ Mat StructuredStiffness(const SpMat& K, const std::vector<int>& boundary, const 
 /// (uniform axial acceleration, and the centripetal load growing with x): ψ = K_ii⁻¹ f_i,
 /// M-orthogonalised against the basis (AxialLoadModes). Returns whether any was appended.
 bool AppendAxialLoadModes(const RodSpec& rod, const AssembledRod& A,
-                          const std::vector<int>& interior, const std::vector<int>& boundary,
-                          Mat* basis) {
-  const Mat psi = AxialLoadModes(rod, A, interior, boundary, *basis);
+                          const std::vector<int>& interior, Mat* basis) {
+  const Mat psi = AxialLoadModes(rod, A, interior, *basis);
   if (psi.cols() == 0) return false;
   const int ndof = static_cast<int>(basis->rows()), n = static_cast<int>(basis->cols());
   const int na = static_cast<int>(psi.cols());
@@ -244,7 +242,7 @@ void CraigBamptonBasis(const RodSpec& rod, const ReductionSpec& spec, const Asse
   *basis_out = CraigBamptonColumns(ndof, boundary, interior, Psi, fixed_interface, k);
   *structured_K = StructuredStiffness(A.K, boundary, Kib, Psi, fixed_interface.eigenvalues, ni, k);
   if (spec.axial_load_modes && dpn == 3 && ni > 0 &&
-      AppendAxialLoadModes(rod, A, interior, boundary, basis_out)) {
+      AppendAxialLoadModes(rod, A, interior, basis_out)) {
     structured_K->reset();  // K_r by projection: the static modes couple to the boundary
   }
   if (spec.method == ReductionMethod::kOrthonormalCraigBampton) {
