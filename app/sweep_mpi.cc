@@ -213,7 +213,13 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       continue;
     }
-    AnswerWorker(status, &ledger, session, &workers_active);
+    // An error here (a part that cannot be saved, an MPI failure) aborts every rank, the
+    // local compute thread included: unwinding past it would terminate this rank alone.
+    try {
+      AnswerWorker(status, &ledger, session, &workers_active);
+    } catch (const std::exception& e) {
+      Abort(e.what());
+    }
   }
   local.join();
   if (local_error) AbortOn(local_error, "");
@@ -333,7 +339,11 @@ void Work(const MpiSession& mpi, const SweepRequest& request, const study::Sweep
   for (int j = 0; j < jobs; ++j) {
     threads.emplace_back([&] { ComputeAssignedRuns(matrix, &rods, &twins, scratch, &exchange); });
   }
-  RelayToRoot(mpi, &exchange);
+  try {  // as in Serve: never unwind past the compute threads
+    RelayToRoot(mpi, &exchange);
+  } catch (const std::exception& e) {
+    Abort("rank " + std::to_string(mpi.rank()) + ": " + e.what());
+  }
   for (std::thread& t : threads) t.join();
   std::error_code ec;
   fs::remove_all(scratch, ec);

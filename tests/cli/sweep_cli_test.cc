@@ -158,6 +158,45 @@ TEST_F(SweepCli, StoresAreIdenticalWithOneThreadTwoThreadsAndTwoMpiRanks) {
   ExpectSameStores(reference, mpi);
 }
 
+// An error that is not a failed run (here a full disk at the second part rank 0 commits, its
+// own or a worker's, by fault injection) aborts every rank: a non-zero exit naming the error, no
+// store, the finished part kept, and the rerun resumes from it to the same store as an undisturbed
+// sweep.
+TEST_F(SweepCli, AnErrorOnOneMpiRankAbortsEveryRankAndTheRerunResumes) {
+  const std::string reference = ReferenceStore();
+  ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
+  ASSERT_TRUE(fs::exists("/usr/bin/mpirun")) << "Open MPI (Debian openmpi-bin) is needed";
+  const std::string store = (Dir() / "mpi_abort.h5").string();
+  const fs::path parts = store + ".parts";
+  const std::string mpirun =
+      "mpirun --allow-run-as-root --oversubscribe -x ASAN_OPTIONS=detect_leaks=0 ";
+  const std::string sweep =
+      std::string(FLEXROD_BINARY) + " sweep " + Small() + " --jobs 1 --no-plot --out " + store;
+  // Rank 0 alone fails (a worker commits its parts to a scratch file before sending them).
+  const Result r = Shell(mpirun + "-np 1 env FLEXROD_FAIL_WRITE=2 " + sweep + " : -np 1 " + sweep);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("flexrod: sweep aborted: No space left on device: " + parts.string()),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(store));
+  int kept = 0;
+  for (const auto& e : fs::directory_iterator(parts)) kept += e.path().extension() == ".h5";
+  EXPECT_EQ(kept, 1);
+  // A worker's error aborts every rank too, naming the worker.
+  const Result w = Shell(mpirun + "-np 1 " + sweep + " : -np 1 env FLEXROD_FAIL_WRITE=1 " + sweep);
+  EXPECT_NE(w.exit_code, 0) << w.output;
+  EXPECT_NE(w.output.find("flexrod: sweep aborted: rank 1: No space left on device"),
+            std::string::npos)
+      << w.output;
+  EXPECT_FALSE(fs::exists(store));
+  const Result again = Shell(mpirun + "-np 2 " + sweep);
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  // The part of the first attempt is kept; the second attempt may have added rank 0's own.
+  EXPECT_NE(again.output.find(" already finished; "), std::string::npos) << again.output;
+  EXPECT_EQ(again.output.find("0 already finished"), std::string::npos) << again.output;
+  ExpectSameStores(reference, store);
+}
+
 TEST_F(SweepCli, KilledSweepResumesWithoutRecomputingFinishedRuns) {
   const std::string reference = ReferenceStore();
   ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
