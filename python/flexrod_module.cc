@@ -29,6 +29,7 @@
 #include "common/units.h"
 #include "input/config.h"
 #include "input/presets.h"
+#include "io/run_vtk.h"
 #include "io/run_writer.h"
 #include "mechanisms/impact_log.h"
 #include "mechanisms/modal_analysis.h"
@@ -118,21 +119,29 @@ py::dict StatusDict(const multibody::SimulationStatus& st) {
   return d;
 }
 
-/// One run, as `flexrod run INPUT --set ... [--out DIR]` computes it (without --check, VTK and
-/// plots). {"ok", "status", "channels", "units", "summary", "impacts", "impact_units",
-/// "ideal": {"channels", "units", "summary"} or None}.
+/// One run, as `flexrod run INPUT --set ... [--out DIR] [--check] [--vtk DIR]` computes it
+/// (without the plots). {"ok", "status", "channels", "units", "summary", "impacts",
+/// "impact_units", "ideal": {"channels", "units", "summary"} or None}.
 py::dict RunInput(const std::string& input, const std::vector<std::string>& sets,
-                  const std::optional<std::string>& out) {
+                  const std::optional<std::string>& out, bool check,
+                  const std::optional<std::string>& vtk) {
   const Config cfg = LoadRunInput(input, sets);
-  if (out) CheckCanCreateDirectory("out", *out);  // before the run, not after it
+  // Output locations and the check's tolerances before the run, not after it.
+  if (out) CheckCanCreateDirectory("out", *out);
+  if (vtk) CheckCanCreateDirectory("vtk", *vtk);
+  const std::optional<Config> check_cfg =
+      check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
   RunResult run = Interruptible([&](const std::atomic<bool>* stop) {
     RunOutputOptions outputs;
     outputs.stop = stop;
+    outputs.record_vtk = vtk.has_value();
     RunResult r = RunSimulation(cfg, nullptr, false, outputs);
+    if (check_cfg && r.ok()) AddAccuracyCheck(*check_cfg, &r, stop);
     if (stop->load()) throw Interrupted("run interrupted");
     return r;
   });
-  if (out) WriteRun({*out, "", ""}, cfg, run);
+  if (out) WriteRun({*out, "", vtk.value_or("")}, cfg, run);
+  if (vtk && !out && run.vtk) WriteVtkSeries(*vtk, *run.vtk);
   py::dict d, channels, units, impacts, impact_units;
   d["ok"] = run.ok();
   d["status"] = StatusDict(run.status);
@@ -375,7 +384,8 @@ PYBIND11_MODULE(_flexrod, m) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     }
   });
-  m.def("run", &RunInput, py::arg("input"), py::arg("sets"), py::arg("out"));
+  m.def("run", &RunInput, py::arg("input"), py::arg("sets"), py::arg("out"), py::arg("check"),
+        py::arg("vtk"));
   m.def("keys", &Keys);
   m.def("modes", &Modes, py::arg("config"), py::arg("flags"));
   m.def("contact", &Contact, py::arg("law"), py::arg("mass"), py::arg("velocity"),

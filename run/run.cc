@@ -572,4 +572,15 @@ nlohmann::json CompareHeadlineFigures(const nlohmann::json& summary,
   return out;
 }
 
+void AddAccuracyCheck(const Config& check_cfg, RunResult* run, const std::atomic<bool>* stop) {
+  RunOutputOptions outputs;
+  outputs.stop = stop;
+  const RunResult reference = RunSimulation(check_cfg, nullptr, false, outputs);
+  nlohmann::json check = CompareHeadlineFigures(run->summary, reference.summary);
+  check["rel_tol"] = check_cfg.Quantity("sim.rel_tol");
+  check["abs_tol"] = check_cfg.Quantity("sim.abs_tol");
+  check["reference_outcome"] = multibody::ToString(reference.status.outcome);
+  run->summary["accuracy_check"] = check;
+}
+
 }  // namespace flexrod

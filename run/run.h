@@ -107,6 +107,13 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
 /// 100 times tighter (InputError if that goes below the integrator's floor).
 Config TightenedForCheck(const Config& cfg);
 
+/// The accuracy check of `flexrod run --check`: runs `check_cfg` (TightenedForCheck of the
+/// run's input) and puts the headline figures' differences (CompareHeadlineFigures) with the
+/// tolerances and the reference run's outcome into run->summary["accuracy_check"]. `stop` as in
+/// RunOutputOptions.
+void AddAccuracyCheck(const Config& check_cfg, RunResult* run,
+                      const std::atomic<bool>* stop = nullptr);
+
 /// The headline figures of a run summary (peak and p95 of the per-revolution peak slider
 /// acceleration, the load amplifications, the peak bearing force, the peak gauge stress),
 /// each with its value, the reference run's and their relative difference [%], under

@@ -152,8 +152,10 @@ def _make_run(raw: dict) -> Run:
 
 def run(input: Union[str, os.PathLike] = "flexible-rig",
         set: Optional[Mapping[str, Any]] = None,
-        out: Union[str, os.PathLike, None] = None) -> Run:
-    """Run one simulation, as `flexrod run INPUT --set k=v ... [--out OUT]`.
+        out: Union[str, os.PathLike, None] = None,
+        check: bool = False,
+        vtk: Union[str, os.PathLike, None] = None) -> Run:
+    """Run one simulation, as `flexrod run INPUT --set k=v ... [--out OUT] [--check] [--vtk VTK]`.
 
     input: a preset ("flexible-rig" (default), "rigid-rig", "simeon-crank",
         "flexible-pendulum") or a TOML input file
@@ -162,13 +164,19 @@ def run(input: Union[str, os.PathLike] = "flexible-rig",
     out: None writes no file; a directory gets what `flexrod run --out DIR` writes
         (resolved.toml, summary.json, run.h5 or the CSV files of output.format), without the
         plots
+    check: the accuracy estimate of `flexrod run --check`: the same run at 100x tighter
+        sim.rel_tol and sim.abs_tol; each headline figure's difference [%] is in
+        summary["accuracy_check"]
+    vtk: None draws nothing; a directory gets the ParaView frames of `flexrod run --vtk DIR`
+        (run.pvd and one .vtu per frame; keys vtk.rate, vtk.scale, vtk.duration)
 
     Returns a Run (channels [SI, see Run.units], summary, ideal twin, impacts). Raises
     InputError before any work for bad input; NumericalError (with .time [s], .state, .hint
     and the partial .run) if the integrator fails; KeyboardInterrupt on Ctrl-C. The GIL is
     released while the run computes.
     """
-    raw = _flexrod.run(os.fspath(input), _sets(set), None if out is None else os.fspath(out))
+    raw = _flexrod.run(os.fspath(input), _sets(set), None if out is None else os.fspath(out),
+                       bool(check), None if vtk is None else os.fspath(vtk))
     result = _make_run(raw)
     if not raw["ok"]:
         st = raw["status"]

@@ -82,8 +82,11 @@ def run(
     input: PathLike = "flexible-rig",
     set: Optional[Mapping[str, Union[str, float, int, bool]]] = None,
     out: Optional[PathLike] = None,
+    check: bool = False,
+    vtk: Optional[PathLike] = None,
 ) -> Run:
-    """One simulation, as `flexrod run INPUT --set k=v ... [--out OUT]` (no plots)."""
+    """One simulation, as `flexrod run INPUT --set k=v ... [--out OUT] [--check] [--vtk VTK]`
+    (no plots)."""
 
 def keys() -> list[dict[str, Any]]:
     """Every input key: {"key", "default", "unit" (SI, "" if none), "rule"}."""

@@ -253,3 +253,36 @@ def test_sigint_stops_a_run_in_another_process():
     assert proc.returncode == 0, out
     assert "interrupted" in out
     assert time.monotonic() - start < 30.0
+
+
+def test_check_is_the_clis_accuracy_check(tmp_path):
+    """check=True is `flexrod run --check`: the same reference run, the same differences."""
+    out = tmp_path / "cli"
+    cli("run", "flexible-rig", "--no-plot", "--check", *set_args(SHORT), "--out", str(out))
+    expected = read_summary(out)["accuracy_check"]
+    got = flexrod.run("flexible-rig", set=SHORT, check=True).summary["accuracy_check"]
+    assert got == expected
+    assert got["rel_tol"] == pytest.approx(1e-8) and got["figures"]
+
+
+def test_vtk_writes_the_clis_paraview_frames(tmp_path):
+    """vtk=DIR writes the frames `flexrod run --vtk DIR` writes, byte for byte, with or
+    without out=."""
+    sets = {**SHORT, "vtk.rate": "2 kHz"}
+    cli("run", "flexible-rig", "--no-plot", *set_args(sets), "--out", str(tmp_path / "cli"),
+        "--vtk", str(tmp_path / "cli_vtk"))
+    flexrod.run("flexible-rig", set=sets, vtk=tmp_path / "py_vtk")
+    flexrod.run("flexible-rig", set=sets, out=tmp_path / "py", vtk=tmp_path / "py_vtk2")
+    expected = sorted(os.listdir(tmp_path / "cli_vtk"))
+    assert "run.pvd" in expected and len(expected) == 301  # 0.15 s at 2 kHz, and the collection
+    for d in ("py_vtk", "py_vtk2"):
+        assert sorted(os.listdir(tmp_path / d)) == expected
+        for name in expected[::50] + ["run.pvd"]:
+            assert (tmp_path / d / name).read_bytes() == (tmp_path / "cli_vtk" / name).read_bytes()
+
+
+def test_vtk_directory_that_cannot_be_created_fails_before_the_run(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(flexrod.InputError, match="vtk"):
+        flexrod.run("flexible-rig", set=SHORT, vtk=blocker / "vtk")
