@@ -182,6 +182,46 @@ TEST(IdaIntegrator, KluPathGivesTheDenseResult) {
   EXPECT_EQ(s1.steps, s2.steps);
 }
 
+// The oscillator with a pattern that misses the entry ω² at (0, 2): a model bug.
+class PatternMissesAnEntry final : public DaeSystem {
+ public:
+  int size() const override { return inner_.size(); }
+  void DifferentialMask(double* id) const override { inner_.DifferentialMask(id); }
+  int Residual(double t, const double* y, const double* yp, double* r) override {
+    return inner_.Residual(t, y, yp, r);
+  }
+  int Jacobian(double t, double cj, const double* y, const double* yp, double* J) override {
+    return inner_.Jacobian(t, cj, y, yp, J);
+  }
+  SparsityPattern JacobianPattern() const override {
+    SparsityPattern p = inner_.JacobianPattern();  // column 0 holds rows 0 and 2
+    p.row_index.erase(p.row_index.begin() + 1);
+    for (std::size_t c = 1; c < p.col_ptr.size(); ++c) --p.col_ptr[c];
+    return p;
+  }
+
+ private:
+  Oscillator inner_;
+};
+
+// The sparse path gathers only the pattern's entries; an entry the system writes outside the
+// pattern is reported as the model bug it is, naming the entry, at the first Jacobian.
+TEST(IdaIntegrator, KluPathReportsAJacobianEntryOutsideThePattern) {
+  PatternMissesAnEntry dae;
+  IdaIntegrator ida(&dae, Tight(LinearSolverKind::kKlu));
+  const double y0[3] = {1.0, 0.0, -kOmega * kOmega}, yp0[3] = {0.0, -kOmega * kOmega, 0.0};
+  ida.Initialize(0.0, y0, yp0);
+  ida.SetStopTime(1.0);
+  try {
+    for (int k = 0; k < 10; ++k) (void)ida.Step(1.0);
+    ADD_FAILURE() << "no error for an entry outside the pattern";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("Jacobian entry (2, 0) lies outside the sparsity pattern"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // x = X + A sin ωt with X = 1000 A: IDA's relative tolerance on |x| ≈ X allows an error of
 // rel_tol·X = 1e-3 A per step. Capping |x| at A (DaeSystem::RelativeToleranceCaps) refers the
 // tolerance to the motion, not to the offset, and the error drops by orders of magnitude.
