@@ -35,8 +35,8 @@ void WriteRunCsv(const std::string& dir, const RunResult& run, const OutputSelec
 class CsvWriter final : public RunWriter {
  public:
   const char* format() const override { return "csv"; }
-  bool Selected(const RunFileRequest& /*r*/, const OutputSelection& sel) const override {
-    return sel.csv;
+  bool Selected(const RunFileRequest& r, const OutputSelection& sel) const override {
+    return !r.dir.empty() && sel.csv;
   }
   void RemoveStale(const RunFileRequest& r) const override {
     std::error_code ec;

@@ -74,8 +74,8 @@ void WriteRunH5(const std::string& dir, const Config& cfg, const RunResult& run,
 class Hdf5Writer final : public RunWriter {
  public:
   const char* format() const override { return "hdf5"; }
-  bool Selected(const RunFileRequest& /*r*/, const OutputSelection& sel) const override {
-    return sel.hdf5;
+  bool Selected(const RunFileRequest& r, const OutputSelection& sel) const override {
+    return !r.dir.empty() && sel.hdf5;
   }
   void RemoveStale(const RunFileRequest& r) const override {
     std::error_code ec;

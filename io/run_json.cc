@@ -39,8 +39,8 @@ Config::DerivedNotes JointNotes(const Config& cfg, const nlohmann::json& params)
 class JsonWriter final : public RunWriter {
  public:
   const char* format() const override { return "json"; }
-  bool Selected(const RunFileRequest& /*r*/, const OutputSelection& /*sel*/) const override {
-    return true;
+  bool Selected(const RunFileRequest& r, const OutputSelection& /*sel*/) const override {
+    return !r.dir.empty();
   }
   void RemoveStale(const RunFileRequest& /*r*/) const override {}  // always replaced
   double Write(const RunFileRequest& r, const RunFileContext& c) const override {

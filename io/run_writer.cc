@@ -27,9 +27,11 @@ const std::vector<std::unique_ptr<RunWriter>>& RunWriters() {
 }
 
 double WriteRun(const RunFileRequest& r, const Config& cfg, const RunResult& run) {
-  EnsureDirectory("--out", r.dir);
   const OutputSelection sel = ReadOutputSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
-  for (const auto& w : RunWriters()) w->RemoveStale(r);
+  if (!r.dir.empty()) {
+    EnsureDirectory("--out", r.dir);
+    for (const auto& w : RunWriters()) w->RemoveStale(r);
+  }
   const RunFileContext c{cfg, run, sel};
   double bytes = 0.0;
   for (const auto& w : RunWriters()) {

@@ -31,7 +31,8 @@ namespace flexrod {
 
 /// Where a run's files go.
 struct RunFileRequest {
-  std::string dir;  ///< the run's output directory (--out), created if missing
+  std::string dir;  ///< the run's output directory (--out), created if missing; "" = none (the
+                    ///< json, hdf5 and csv writers then write nothing)
   /// Optional: the output directory of an earlier run of the same study with the same
   /// ideal-joint twin; the twin is then linked to its files (an HDF5 external link, a relative
   /// symbolic link for CSV) instead of written again.
@@ -64,8 +65,8 @@ class RunWriter {
 /// Every writer, in the order they write.
 const std::vector<std::unique_ptr<RunWriter>>& RunWriters();
 
-/// Writes the run's files: removes every format's stale files from r.dir, then each selected
-/// writer writes. Returns the bytes written [B].
+/// Writes the run's files: removes every format's stale files from r.dir (if given), then each
+/// selected writer writes. Returns the bytes written [B].
 double WriteRun(const RunFileRequest& r, const Config& cfg, const RunResult& run);
 
 /// The selected channels (those the record has) at every stride-th sample.

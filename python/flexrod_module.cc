@@ -29,7 +29,6 @@
 #include "common/units.h"
 #include "input/config.h"
 #include "input/presets.h"
-#include "io/run_vtk.h"
 #include "io/run_writer.h"
 #include "mechanisms/impact_log.h"
 #include "mechanisms/modal_analysis.h"
@@ -140,8 +139,7 @@ py::dict RunInput(const std::string& input, const std::vector<std::string>& sets
     if (stop->load()) throw Interrupted("run interrupted");
     return r;
   });
-  if (out) WriteRun({*out, "", vtk.value_or("")}, cfg, run);
-  if (vtk && !out && run.vtk) WriteVtkSeries(*vtk, *run.vtk);
+  if (out || vtk) WriteRun({out.value_or(""), "", vtk.value_or("")}, cfg, run);
   py::dict d, channels, units, impacts, impact_units;
   d["ok"] = run.ok();
   d["status"] = StatusDict(run.status);

@@ -173,6 +173,13 @@ TEST(RunWriters, WriteWhatIsSelectedAndRemoveWhatAnEarlierRunLeft) {
   std::set<std::string> names;
   for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
   EXPECT_EQ(names, (std::set<std::string>{"resolved.toml", "run.h5", "summary.json"}));
+  // Without a run directory only the frames are written (Python's run(vtk=...) without out=).
+  const fs::path frames = TempDir("frames_only");
+  WriteRun({"", "", frames.string()}, h5, r);
+  std::set<std::string> written;
+  for (const auto& e : fs::directory_iterator(frames)) written.insert(e.path().extension());
+  EXPECT_EQ(written, (std::set<std::string>{".pvd", ".vtu"}));
+  fs::remove_all(frames);
   std::vector<std::string> formats;
   for (const auto& w : RunWriters()) formats.push_back(w->format());
   EXPECT_EQ(formats, (std::vector<std::string>{"json", "hdf5", "csv", "vtk"}));
