@@ -35,42 +35,37 @@ VtkRecorder::VtkRecorder(const Config& cfg, const MechanismModel& model, const V
 
   const multibody::Mechanism& m = model.mechanism;
   VtkLayout& L = series_.layout;
-  int next = 0;
   // Rod centre line: FE nodes of a flexible rod, the two clamp nodes of a rigid one.
-  L.rod_first = next;
+  L.rod_first = L.num_points;
   if (model.rod) {
-    LayOutReducedRod(cfg, &next);
+    LayOutReducedRod(cfg);
   } else if (model.exact) {
-    LayOutExactRod(&next);
+    LayOutExactRod();
   } else {
     const double length = cfg.Quantity("rod.length");
-    carried_.push_back({next++, Vec2::Zero(), Mat2X(2, 0)});
-    carried_.push_back({next++, Vec2(length, 0.0), Mat2X(2, 0)});
+    carried_.push_back({L.AddPoints(1), Vec2::Zero(), Mat2X(2, 0)});
+    carried_.push_back({L.AddPoints(1), Vec2(length, 0.0), Mat2X(2, 0)});
   }
-  L.rod_count = next - L.rod_first;
+  L.rod_count = L.num_points - L.rod_first;
   chord_first_ = 0;  // carried_ holds the rod's centre-line points first
   chord_last_ = static_cast<size_t>(L.rod_count - 1);
   const multibody::Marker& big = m.marker(model.big_end);
-  L.big_end = next++;
+  L.big_end = L.AddPoints(1);
   carried_.push_back({L.big_end, big.position, big.S_u});
   std::vector<int> rod_line(L.rod_count);
   for (int k = 0; k < L.rod_count; ++k) rod_line[k] = L.rod_first + k;
   L.cells.push_back({kVtkPolyLine, VtkPart::kRod, rod_line});
   L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.big_end, L.rod_first}});
-  LayOutEndsAndCrank(&next);
-  L.num_points = next;
+  LayOutEndsAndCrank();
   parts_ = model.recipe->LayOutParts(cfg, model, &L);
-  next = L.num_points;
-  LayOutClearanceJoint(&next);
-  L.num_points = next;
+  LayOutClearanceJoint();
 }
 
 /// The reduced rod's FE nodes, carried by its frame and shape rows, with their stress rows.
-void VtkRecorder::LayOutReducedRod(const Config& cfg, int* next_point) {
-  int& next = *next_point;
+void VtkRecorder::LayOutReducedRod(const Config& cfg) {
   const fem::ReducedRod& rod = *model_.rod;
   for (const fem::MarkerShape& node : rod.nodes)
-    carried_.push_back({next++, node.position, node.S_u});
+    carried_.push_back({series_.layout.AddPoints(1), node.position, node.S_u});
   const int nn = rod.rod.num_nodes(), n = rod.num_coordinates();
   const double E = rod.rod.material.youngs_modulus;
   const double y = rod.rod.section.half_depth_in_plane();
@@ -99,11 +94,10 @@ void VtkRecorder::LayOutReducedRod(const Config& cfg, int* next_point) {
 
 /// The exact rod's node bodies: one layout point each; Frame() sets it from the body's
 /// coordinates (u0 = the node's place on the undeformed rod, no shape rows).
-void VtkRecorder::LayOutExactRod(int* next_point) {
-  int& next = *next_point;
+void VtkRecorder::LayOutExactRod() {
   const fem::RodSpec& rod = model_.exact->rod;
   for (int k = 0; k < rod.num_nodes(); ++k)
-    carried_.push_back({next++, Vec2(rod.node_x(k), 0.0), Mat2X(2, 0)});
+    carried_.push_back({series_.layout.AddPoints(1), Vec2(rod.node_x(k), 0.0), Mat2X(2, 0)});
   exact_ = std::make_shared<const ExactRodView>(model_.mechanism, *model_.exact);
   exact_E_ = rod.material.youngs_modulus;
   exact_fibre_ = rod.section.half_depth_in_plane();
@@ -111,24 +105,22 @@ void VtkRecorder::LayOutExactRod(int* next_point) {
 
 /// The small-end point and its clamp arm (every rod has both ends), and the crank where the
 /// mechanism has one.
-void VtkRecorder::LayOutEndsAndCrank(int* next_point) {
-  int& next = *next_point;
+void VtkRecorder::LayOutEndsAndCrank() {
   VtkLayout& L = series_.layout;
   // Where the small-end clamp is a body of its own, Frame() draws the bush at its marker.
   const multibody::Marker& small = model_.mechanism.marker(model_.small_end);
-  L.small_end = next++;
+  L.small_end = L.AddPoints(1);
   carried_.push_back({L.small_end, small.position, small.S_u});
   L.cells.push_back({kVtkLine, VtkPart::kClamp, {L.rod_first + L.rod_count - 1, L.small_end}});
   if (model_.crank.is_ground()) return;
-  L.crank_axis = next++;
-  L.crank_pin = next++;
+  L.crank_axis = L.AddPoints(1);
+  L.crank_pin = L.AddPoints(1);
   L.cells.push_back({kVtkLine, VtkPart::kCrank, {L.crank_axis, L.crank_pin}});
 }
 
 /// A clearance joint's bush and pin circles.
-void VtkRecorder::LayOutClearanceJoint(int* next_point) {
+void VtkRecorder::LayOutClearanceJoint() {
   if (model_.clearance.index < 0) return;
-  int& next = *next_point;
   VtkLayout& L = series_.layout;
   const auto* joint = dynamic_cast<const multibody::ClearanceJoint*>(
       model_.mechanism.element(model_.clearance).element.get());
@@ -138,11 +130,10 @@ void VtkRecorder::LayOutClearanceJoint(int* next_point) {
   L.circle_points = kCirclePoints;
   for (auto [first, part] :
        {std::pair{&L.bush_first, VtkPart::kBush}, std::pair{&L.pin_first, VtkPart::kPin}}) {
-    *first = next;
+    *first = L.AddPoints(kCirclePoints);
     std::vector<int> ring(kCirclePoints + 1);
-    for (int i = 0; i < kCirclePoints; ++i) ring[i] = next + i;
-    ring[kCirclePoints] = next;  // closed
-    next += kCirclePoints;
+    for (int i = 0; i < kCirclePoints; ++i) ring[i] = *first + i;
+    ring[kCirclePoints] = *first;  // closed
     L.cells.push_back({kVtkPolyLine, part, ring});
   }
 }

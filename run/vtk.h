@@ -50,10 +50,11 @@ class VtkRecorder {
   VtkSeries Finish() { return std::move(series_); }
 
  private:
-  void LayOutReducedRod(const Config& cfg, int* next_point);
-  void LayOutExactRod(int* next_point);
-  void LayOutEndsAndCrank(int* next_point);
-  void LayOutClearanceJoint(int* next_point);
+  // The layout's parts, each adding its points (VtkLayout::AddPoints) and cells.
+  void LayOutReducedRod(const Config& cfg);
+  void LayOutExactRod();
+  void LayOutEndsAndCrank();
+  void LayOutClearanceJoint();
   // CalcFrame's parts: the points the rod's frame carries (any rod; `q` the reduced rod's
   // elastic coordinates, with its stresses), the exact rod's nodes and stresses, the crank and
   // the clearance joint's circles.

@@ -22,13 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Config Preset(const std::string& name, const std::vector<std::string>& sets) {
-  Config cfg;
-  cfg.LoadToml(FindPreset(name)->toml, name);
-  for (const std::string& s : sets) cfg.SetAssignment(s);
-  return cfg;
-}
-
 /// Short captures from the index angle at t = 0: 500 samples at 10 kHz.
 std::vector<std::string> Short(std::vector<std::string> more) {
   more.insert(more.begin(), {"sim.settle=0 s", "sim.capture=0.05 s", "sim.sample_rate=10 kHz"});
@@ -85,7 +78,7 @@ TEST(VtkFiles, CollectionListsEveryFrameFileAndEachFileIsConsistent) {
   const fs::path dir = TempDir("files") / "vtk";  // the writer creates missing parents
   RunOutputOptions o;
   o.record_vtk = true;
-  const Config cfg = Preset("rigid-rig", Short({}));
+  const Config cfg = LoadRunInput("rigid-rig", Short({}));
   const RunResult r = RunSimulation(cfg, nullptr, false, o);  // clearance joint
   ASSERT_TRUE(r.ok());
   ASSERT_TRUE(r.vtk.has_value());
@@ -153,7 +146,7 @@ TEST(RunWriters, WriteWhatIsSelectedAndRemoveWhatAnEarlierRunLeft) {
   const fs::path dir = TempDir("formats");
   RunOutputOptions o;
   o.record_vtk = true;  // recorded, but not asked for in files: no --vtk directory
-  const Config csv = Preset("rigid-rig", Short({"output.format=csv"}));
+  const Config csv = LoadRunInput("rigid-rig", Short({"output.format=csv"}));
   const RunResult r = RunSimulation(csv, nullptr, false, o);
   ASSERT_TRUE(r.ok());
   const double csv_bytes = WriteRun({dir.string(), "", ""}, csv, r);
@@ -165,7 +158,7 @@ TEST(RunWriters, WriteWhatIsSelectedAndRemoveWhatAnEarlierRunLeft) {
   for (const auto& e : fs::recursive_directory_iterator(dir))
     if (e.is_regular_file()) listed += static_cast<double>(e.file_size());
   EXPECT_EQ(csv_bytes, listed);
-  const Config h5 = Preset("rigid-rig", Short({"output.format=hdf5"}));
+  const Config h5 = LoadRunInput("rigid-rig", Short({"output.format=hdf5"}));
   WriteRun({dir.string(), "", ""}, h5, r);
   EXPECT_TRUE(fs::is_regular_file(dir / "run.h5"));
   for (const char* f : {"channels.csv", "impacts.csv", "ideal/channels.csv", "ideal"})

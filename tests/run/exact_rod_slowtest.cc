@@ -18,22 +18,15 @@
 namespace flexrod {
 namespace {
 
-Config Preset(const std::string& name, const std::vector<std::string>& sets) {
-  Config cfg;
-  cfg.LoadToml(FindPreset(name)->toml, name);
-  for (const std::string& s : sets) cfg.SetAssignment(s);
-  return cfg;
-}
-
 struct Peaks {
   double deflection, stress;
 };
 
 Peaks SimeonPeaks(const std::string& rod_type, const std::string& rel_tol) {
-  const Config cfg =
-      Preset("simeon-crank", {"rod.type=" + rod_type, "sim.start=steady", "damping.type=ratio",
-                              "damping.ratio=0.02", "sim.rel_tol=" + rel_tol,
-                              "sim.abs_tol=1e-10"});  // damped: 1e-10 suffices (the preset: 1e-11)
+  const Config cfg = LoadRunInput(
+      "simeon-crank", {"rod.type=" + rod_type, "sim.start=steady", "damping.type=ratio",
+                       "damping.ratio=0.02", "sim.rel_tol=" + rel_tol,
+                       "sim.abs_tol=1e-10"});  // damped: 1e-10 suffices (the preset: 1e-11)
   const RunResult r = RunSimulation(cfg, nullptr, false, RunOutputOptions{});
   EXPECT_TRUE(r.ok()) << r.status.Summary();
   EXPECT_TRUE(r.summary["steady_start"]["converged"].get<bool>());
@@ -60,7 +53,7 @@ struct RigFigures {
 
 RigFigures FlexibleRig(const std::string& rod_type, std::vector<std::string> sets = {}) {
   sets.insert(sets.end(), {"rod.type=" + rod_type, "damping.type=rayleigh", "damping.beta=2e-5"});
-  const Config cfg = Preset("flexible-rig", sets);
+  const Config cfg = LoadRunInput("flexible-rig", sets);
   const RunResult r = RunSimulation(cfg, nullptr, false, RunOutputOptions{});
   EXPECT_TRUE(r.ok()) << r.status.Summary();
   const nlohmann::json& s = r.summary;

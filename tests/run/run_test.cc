@@ -16,13 +16,6 @@
 namespace flexrod {
 namespace {
 
-Config Preset(const std::string& name, const std::vector<std::string>& sets) {
-  Config cfg;
-  cfg.LoadToml(FindPreset(name)->toml, name);
-  for (const std::string& s : sets) cfg.SetAssignment(s);
-  return cfg;
-}
-
 /// Exact slider-crank kinematics: journal position x(θ) = r cos θ + sqrt(ℓ² − (e − r sin θ)²)
 /// (crank axis at the origin, guide at y = e); derivatives by a 5-point stencil in θ
 /// (truncation ~h⁴ = 1e-12 relative for h = 1e-3).
@@ -57,10 +50,10 @@ double MaxRelativeError(const study::TimeSeries& ts, const ExactCrank& k, double
 }
 
 TEST(RigidRig, IdealJointWithSliderOffsetMatchesExactKinematics) {
-  const Config cfg =
-      Preset("rigid-rig", {"joint.type=ideal", "slider.offset=12 mm", "slider.damping=0",
-                           "slider.friction=0", "sim.settle=0 s", "sim.capture=0.35 s",
-                           "sim.sample_rate=20 kHz", "sim.rel_tol=1e-10", "sim.abs_tol=1e-12"});
+  const Config cfg = LoadRunInput(
+      "rigid-rig", {"joint.type=ideal", "slider.offset=12 mm", "slider.damping=0",
+                    "slider.friction=0", "sim.settle=0 s", "sim.capture=0.35 s",
+                    "sim.sample_rate=20 kHz", "sim.rel_tol=1e-10", "sim.abs_tol=1e-12"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const ExactCrank k{0.05, 0.30, 0.012};
@@ -80,10 +73,10 @@ TEST(RigidRig, IdealJointWithSliderOffsetMatchesExactKinematics) {
 // two runs differ by 3e-5 of the peak.
 TEST(RigidRig, EliminatingThePrescribedCoordinatesKeepsTheRun) {
   auto run = [](const char* eliminate) {
-    return RunSimulation(
-        Preset("rigid-rig",
-               {"joint.type=ideal", "slider.friction=0 N", "sim.settle=0 s", "sim.capture=0.2 s",
-                "sim.sample_rate=10 kHz", "sim.rel_tol=1e-10", "sim.abs_tol=1e-12", eliminate}));
+    return RunSimulation(LoadRunInput(
+        "rigid-rig",
+        {"joint.type=ideal", "slider.friction=0 N", "sim.settle=0 s", "sim.capture=0.2 s",
+         "sim.sample_rate=10 kHz", "sim.rel_tol=1e-10", "sim.abs_tol=1e-12", eliminate}));
   };
   const RunResult reduced = run("sim.eliminate_prescribed=true"),
                   full = run("sim.eliminate_prescribed=false");
@@ -91,7 +84,7 @@ TEST(RigidRig, EliminatingThePrescribedCoordinatesKeepsTheRun) {
   EXPECT_EQ(full.summary["integrator"]["unknowns"].get<int>(),
             40);  // 9 p, 9 v, 9 λ, 9 μ, 4 energies
   EXPECT_EQ(reduced.summary["integrator"]["unknowns"].get<int>(), 25);
-  const Config preset = Preset("rigid-rig", {});
+  const Config preset = LoadRunInput("rigid-rig", {});
   const double mass = preset.Quantity("slider.mass"), damping = preset.Quantity("slider.damping");
   for (const RunResult* r : {&reduced, &full}) {
     const auto& a = r->channels.values("slider_acceleration");
@@ -123,8 +116,8 @@ TEST(RigidRig, EliminatingThePrescribedCoordinatesKeepsTheRun) {
 
 TEST(FlexibleRig, EnergyBalanceClosesAndConstraintsHold) {
   const RunResult r =
-      RunSimulation(Preset("flexible-rig", {"joint.type=ideal", "sim.settle=0.2 s",
-                                            "sim.capture=0.4 s", "sim.sample_rate=10 kHz"}));
+      RunSimulation(LoadRunInput("flexible-rig", {"joint.type=ideal", "sim.settle=0.2 s",
+                                                  "sim.capture=0.4 s", "sim.sample_rate=10 kHz"}));
   ASSERT_TRUE(r.ok());
   // The driver-work quadrature is outside IDA's error test (its rate −λθ̇ carries the index-2
   // multiplier noise, multibody/simulate.h), so the balance closes to ~1e-5 at default tolerances.
@@ -153,8 +146,8 @@ TEST(FlexibleRig, SteadyStartReachesThePeriodicStateOfALongSettling) {
   std::vector<std::string> steady_sets = common, settled_sets = common;
   steady_sets.push_back("sim.start=steady");
   settled_sets.push_back("sim.settle=6 s");
-  const RunResult steady = RunSimulation(Preset("flexible-rig", steady_sets));
-  const RunResult settled = RunSimulation(Preset("flexible-rig", settled_sets));
+  const RunResult steady = RunSimulation(LoadRunInput("flexible-rig", steady_sets));
+  const RunResult settled = RunSimulation(LoadRunInput("flexible-rig", settled_sets));
   ASSERT_TRUE(steady.ok() && settled.ok());
   const nlohmann::json& info = steady.summary["steady_start"];
   EXPECT_TRUE(info["converged"].get<bool>()) << info.dump();
@@ -178,9 +171,9 @@ TEST(FlexibleRig, SteadyStartReachesThePeriodicStateOfALongSettling) {
 // periodic state) says so: converged false, its revolutions and last change, a warning, and the
 // capture from where it stopped.
 TEST(FlexibleRig, SteadyStartThatDoesNotRepeatWarnsAndCapturesFromWhereItStopped) {
-  const RunResult r = RunSimulation(
-      Preset("flexible-rig", {"joint.type=ideal", "sim.capture=0.1 s", "sim.sample_rate=10 kHz",
-                              "sim.rel_tol=1e-7", "sim.start=steady", "sim.steady_revolutions=2"}));
+  const RunResult r = RunSimulation(LoadRunInput(
+      "flexible-rig", {"joint.type=ideal", "sim.capture=0.1 s", "sim.sample_rate=10 kHz",
+                       "sim.rel_tol=1e-7", "sim.start=steady", "sim.steady_revolutions=2"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const nlohmann::json& info = r.summary["steady_start"];
   EXPECT_FALSE(info["converged"].get<bool>()) << info.dump();
@@ -200,8 +193,8 @@ TEST(FlexibleRig, SteadyStartThatDoesNotRepeatWarnsAndCapturesFromWhereItStopped
 }
 
 TEST(FlexiblePendulum, UndampedConservesEnergy) {
-  const RunResult r =
-      RunSimulation(Preset("flexible-pendulum", {"sim.capture=0.4 s", "sim.sample_rate=5 kHz"}));
+  const RunResult r = RunSimulation(
+      LoadRunInput("flexible-pendulum", {"sim.capture=0.4 s", "sim.sample_rate=5 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   EXPECT_LT(r.summary["energy"]["relative_balance_error"].get<double>(), 1e-6);
   // It actually swung: the rod turned through more than 60 degrees.
@@ -215,9 +208,9 @@ TEST(FlexiblePendulum, UndampedConservesEnergy) {
 // 9 · 20 N m / 1900 rpm; the mean speed droops below the set speed by mean load / c, and
 // the motor's work closes the energy balance.
 TEST(RigidRig, MotorDriveRunsAtTheSetSpeedOnTheRatedTorqueLine) {
-  const Config cfg =
-      Preset("rigid-rig", {"drive.type=motor", "drive.speed=177 rpm", "joint.type=ideal",
-                           "sim.settle=0.5 s", "sim.capture=0.7 s", "sim.sample_rate=20 kHz"});
+  const Config cfg = LoadRunInput(
+      "rigid-rig", {"drive.type=motor", "drive.speed=177 rpm", "joint.type=ideal",
+                    "sim.settle=0.5 s", "sim.capture=0.7 s", "sim.sample_rate=20 kHz"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
@@ -249,8 +242,8 @@ TEST(RigidRig, MotorDriveRunsAtTheSetSpeedOnTheRatedTorqueLine) {
 // are scaled by the step (3.6 ms here, IntegratorOptions), which leaves them ~1e-3 of play.
 TEST(RigidRig, IdealJointCrankTorqueCarriesThePowerAtTheDefaultTolerance) {
   const RunResult r =
-      RunSimulation(Preset("rigid-rig", {"joint.type=ideal", "sim.settle=0.5 s", "sim.capture=1 s",
-                                         "sim.sample_rate=20 kHz"}));
+      RunSimulation(LoadRunInput("rigid-rig", {"joint.type=ideal", "sim.settle=0.5 s",
+                                               "sim.capture=1 s", "sim.sample_rate=20 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const auto w = r.channels.values("crank_speed");
   const auto torque = r.channels.values("crank_torque"), ke = r.channels.values("energy_kinetic");
@@ -270,7 +263,7 @@ TEST(RigidRig, IdealJointCrankTorqueCarriesThePowerAtTheDefaultTolerance) {
 TEST(RunInput, BadInputNamesKeyValueAndRule) {
   auto expect_error = [](const std::vector<std::string>& sets, const std::string& key) {
     try {
-      RunSimulation(Preset("flexible-rig", sets));
+      RunSimulation(LoadRunInput("flexible-rig", sets));
       ADD_FAILURE() << "no InputError for " << key;
     } catch (const InputError& e) {
       EXPECT_EQ(e.key(), key) << e.what();
@@ -298,11 +291,11 @@ TEST(RunInput, BadInputNamesKeyValueAndRule) {
     expect_error({type, "output.gauges=0.1 m, 0.29 m"}, "output.gauges");
   }
   expect_error({"sim.capture=15 us"}, "sim.capture");  // 1.5 samples at 100 kHz
-  EXPECT_THROW(Preset("flexible-rig", {"rod.elements=1e12"}), InputError);  // not a valid int
-  EXPECT_THROW(Preset("flexible-rig", {"rod.colour=red"}), InputError);
-  EXPECT_THROW(Preset("flexible-rig", {"rod.height=tall"}), InputError);
-  EXPECT_THROW(Preset("flexible-rig", {"drive.speed=3 kg"}), InputError);
-  EXPECT_THROW(Preset("flexible-rig", {"rod.material=unobtainium"}), InputError);
+  EXPECT_THROW(LoadRunInput("flexible-rig", {"rod.elements=1e12"}), InputError);  // not a valid int
+  EXPECT_THROW(LoadRunInput("flexible-rig", {"rod.colour=red"}), InputError);
+  EXPECT_THROW(LoadRunInput("flexible-rig", {"rod.height=tall"}), InputError);
+  EXPECT_THROW(LoadRunInput("flexible-rig", {"drive.speed=3 kg"}), InputError);
+  EXPECT_THROW(LoadRunInput("flexible-rig", {"rod.material=unobtainium"}), InputError);
 }
 
 // A crank angle is reduced to [0, 2π): 90° + 10¹² turns is 90°, for the start and the index
@@ -314,7 +307,7 @@ TEST(RunInput, CrankAnglesAreReducedModuloOneTurn) {
     std::vector<std::string> sets = base;
     sets.push_back("drive.initial_angle=" + initial);
     sets.push_back("sim.index_angle=" + index);
-    const RunResult r = RunSimulation(Preset("flexible-rig", sets));
+    const RunResult r = RunSimulation(LoadRunInput("flexible-rig", sets));
     EXPECT_TRUE(r.ok()) << r.status.message;
     return r;
   };
@@ -365,11 +358,11 @@ TEST(AccuracyCheck, ComparesEveryHeadlineFigureBothSummariesHave) {
   EXPECT_EQ(c["max_difference_figure"], "load_amplification.slider_acceleration_positive");
   // The check's tolerances are the run's, 100 times tighter, and must stay above the floor.
   const Config tight =
-      TightenedForCheck(Preset("rigid-rig", {"sim.rel_tol=1e-7", "sim.abs_tol=1e-9"}));
+      TightenedForCheck(LoadRunInput("rigid-rig", {"sim.rel_tol=1e-7", "sim.abs_tol=1e-9"}));
   EXPECT_NEAR(tight.Quantity("sim.rel_tol"), 1e-9, 1e-24);
   EXPECT_NEAR(tight.Quantity("sim.abs_tol"), 1e-11, 1e-26);
   try {
-    (void)TightenedForCheck(Preset("rigid-rig", {"sim.rel_tol=1e-13"}));
+    (void)TightenedForCheck(LoadRunInput("rigid-rig", {"sim.rel_tol=1e-13"}));
     ADD_FAILURE() << "a check below the rel_tol floor was accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(e.key(), "--check");
@@ -407,8 +400,8 @@ TEST(LoadAmplification, BearingForceOverRevolutionsMatchesItsDefinition) {
   // Here the per-revolution peaks differ (measured ratios over the 5 revolutions: p95 164.729,
   // max 164.906, median 149.3), so the check tells the statistics apart.
   const Config cfg =
-      Preset("rigid-rig", {"joint.clearance=1 mm", "drive.speed=101 rpm", "sim.settle=0.2 s",
-                           "sim.capture=3 s", "sim.sample_rate=20 kHz"});
+      LoadRunInput("rigid-rig", {"joint.clearance=1 mm", "drive.speed=101 rpm", "sim.settle=0.2 s",
+                                 "sim.capture=3 s", "sim.sample_rate=20 kHz"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok() && r.ideal) << r.status.Summary();
   const auto fn = r.channels.values("contact_normal_force"),
@@ -431,8 +424,8 @@ TEST(RunSummary, ItsStatisticsAreThoseOfTheRecord) {
   // The summary's channel statistics are gathered while the samples are recorded, and its
   // slider-acceleration statistics share one split into revolutions; both must equal what the
   // record itself gives. Rigid rig, 1 mm clearance, 177 rpm, 3 revolutions at 20 kHz.
-  const Config cfg = Preset("rigid-rig", {"drive.speed=177 rpm", "sim.settle=0.1 s",
-                                          "sim.capture=1.02 s", "sim.sample_rate=20 kHz"});
+  const Config cfg = LoadRunInput("rigid-rig", {"drive.speed=177 rpm", "sim.settle=0.1 s",
+                                                "sim.capture=1.02 s", "sim.sample_rate=20 kHz"});
   const RunResult r = RunSimulation(cfg);
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const study::TimeSeries& ts = r.channels;
@@ -483,8 +476,8 @@ TEST(RunRobustness, LooseToleranceRunsPastContactSeparations) {
   // failure fixes it (multibody/ida_integrator.cc, TimedSetup).
   for (const char* tol : {"sim.rel_tol=1e-5", "sim.rel_tol=1e-4"}) {
     const RunResult r = RunSimulation(
-        Preset("rigid-rig", {"joint.clearance=1 mm", "drive.speed=177 rpm", "sim.settle=0 s",
-                             "sim.capture=0.3 s", "sim.sample_rate=10 kHz", tol}));
+        LoadRunInput("rigid-rig", {"joint.clearance=1 mm", "drive.speed=177 rpm", "sim.settle=0 s",
+                                   "sim.capture=0.3 s", "sim.sample_rate=10 kHz", tol}));
     EXPECT_TRUE(r.ok()) << tol << ": " << r.status.Summary();
     EXPECT_EQ(r.status.linear_solver, multibody::LinearSolverKind::kKlu);
     EXPECT_GT(r.status.stats.roots_found, 4) << tol;  // several onsets and separations
@@ -499,9 +492,9 @@ TEST(RunRobustness, ARestartAfterAContactEventStartsOnTheConstraints) {
   // G v + g_t = 0 first (multibody/simulate.cc). The trajectory is chaotic: another build's
   // round-off may move or remove this particular failure, which the assertion below cannot see.
   const RunResult r = RunSimulation(
-      Preset("rigid-rig", {"joint.law=hertz", "joint.friction_law=none", "sim.rel_tol=1e-9",
-                           "sim.abs_tol=1e-12", "sim.settle=0 s", "drive.initial_angle=5 deg",
-                           "sim.capture=2.6 s", "sim.sample_rate=10 kHz"}));
+      LoadRunInput("rigid-rig", {"joint.law=hertz", "joint.friction_law=none", "sim.rel_tol=1e-9",
+                                 "sim.abs_tol=1e-12", "sim.settle=0 s", "drive.initial_angle=5 deg",
+                                 "sim.capture=2.6 s", "sim.sample_rate=10 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   EXPECT_GT(r.status.t_reached, 2.8);
   EXPECT_GT(r.status.stats.roots_found, 20);
@@ -517,7 +510,7 @@ TEST(RunRobustness, LuGreFrictionKeepsThePinOutsideTheBushWall) {
   // through the bush (centimetres of penetration, zero force); with Kelvin–Voigt IDA gave up at
   // t = 0.0124 s. The event band of ClearanceJoint (a hysteresis on the root) fixed both.
   for (const char* law : {"joint.law=hertz", "joint.law=kelvin-voigt"}) {
-    const RunResult r = RunSimulation(Preset(
+    const RunResult r = RunSimulation(LoadRunInput(
         "flexible-rig", {law, "joint.friction_law=lugre", "sim.settle=0 s", "sim.capture=0.15 s"}));
     ASSERT_TRUE(r.ok()) << law << ": " << r.status.Summary();
     const auto pen = r.channels.values("penetration");
@@ -540,7 +533,7 @@ TEST(RunRobustness, LuGreFrictionKeepsThePinOutsideTheBushWall) {
 TEST(RunRobustness, AnEnergyBalanceErrorAboveOnePercentIsWarnedAbout) {
   // Rigid rig: 2.3 % of the peak kinetic energy at rel_tol 3e-2 (warned), 2e-5 at 1e-6 (not).
   for (const char* tol : {"sim.rel_tol=3e-2", "sim.rel_tol=1e-6"}) {
-    const RunResult r = RunSimulation(Preset(
+    const RunResult r = RunSimulation(LoadRunInput(
         "rigid-rig", {tol, "sim.settle=0 s", "sim.capture=0.3 s", "sim.sample_rate=10 kHz"}));
     ASSERT_TRUE(r.ok()) << r.status.Summary();
     const bool loose = std::string(tol) == "sim.rel_tol=3e-2";
@@ -556,8 +549,8 @@ TEST(RunRobustness, AnEnergyBalanceErrorAboveOnePercentIsWarnedAbout) {
 TEST(RunRobustness, APenetrationOfATenthOfTheClearanceIsWarnedAbout) {
   // A linear spring of 1e3 N/m cannot carry the joint load within the clearance.
   const RunResult r = RunSimulation(
-      Preset("rigid-rig", {"joint.law=linear-spring", "joint.stiffness=1e3", "sim.settle=0 s",
-                           "sim.capture=0.1 s", "sim.sample_rate=10 kHz"}));
+      LoadRunInput("rigid-rig", {"joint.law=linear-spring", "joint.stiffness=1e3", "sim.settle=0 s",
+                                 "sim.capture=0.1 s", "sim.sample_rate=10 kHz"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   ASSERT_TRUE(r.summary.contains("warnings"));
   EXPECT_NE(r.summary["warnings"][0].get<std::string>().find("% of joint.clearance"),
@@ -571,8 +564,8 @@ TEST(ImpactLog, ARigidRigRunLogsEveryLocatedContactAndAgreesWithItsChannels) {
   // is at least every sample's force inside it, (3) its dissipated energy is the time integral
   // of the contact_dissipation channel (sampled at 100 kHz; the log's points are finer).
   const RunResult r = RunSimulation(
-      Preset("rigid-rig", {"joint.clearance=1 mm", "joint.friction=0.18", "drive.speed=177 rpm",
-                           "sim.settle=0 s", "sim.capture=0.339 s"}));
+      LoadRunInput("rigid-rig", {"joint.clearance=1 mm", "joint.friction=0.18",
+                                 "drive.speed=177 rpm", "sim.settle=0 s", "sim.capture=0.339 s"}));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
   const std::vector<study::Impact>& log = r.impacts;
   ASSERT_GE(log.size(), 3u);

@@ -25,13 +25,6 @@ namespace fs = std::filesystem;
 using study::VtkFrame;
 using study::VtkLayout;
 
-Config Preset(const std::string& name, const std::vector<std::string>& sets) {
-  Config cfg;
-  cfg.LoadToml(FindPreset(name)->toml, name);
-  for (const std::string& s : sets) cfg.SetAssignment(s);
-  return cfg;
-}
-
 /// Short captures from the index angle at t = 0: 500 samples at 10 kHz.
 std::vector<std::string> Short(std::vector<std::string> more) {
   more.insert(more.begin(), {"sim.settle=0 s", "sim.capture=0.05 s", "sim.sample_rate=10 kHz"});
@@ -65,9 +58,9 @@ constexpr int kRodElements = 40;
 
 TEST(VtkGeometry, ZeroScaleDrawsAStraightRodOnTheDeformedChord) {
   const RunResult r0 =
-      RunWithFrames(Preset("flexible-rig", Short({"joint.type=ideal", "vtk.scale=0"})));
+      RunWithFrames(LoadRunInput("flexible-rig", Short({"joint.type=ideal", "vtk.scale=0"})));
   const RunResult r1 =
-      RunWithFrames(Preset("flexible-rig", Short({"joint.type=ideal", "vtk.scale=1"})));
+      RunWithFrames(LoadRunInput("flexible-rig", Short({"joint.type=ideal", "vtk.scale=1"})));
   const VtkLayout& L = r0.vtk->layout;
   ASSERT_EQ(L.rod_count, kRodElements + 1);
   ASSERT_EQ(r0.vtk->frames.size(), r1.vtk->frames.size());
@@ -108,7 +101,7 @@ TEST(VtkGeometry, RodJointPointsSitOnTheCrankPinAndTheJournal) {
   for (const std::string preset : {"flexible-rig", "rigid-rig"}) {
     std::vector<std::string> sets = Short(tight);
     sets.push_back("vtk.scale=1");
-    const RunResult r = RunWithFrames(Preset(preset, sets));
+    const RunResult r = RunWithFrames(LoadRunInput(preset, sets));
     const double violation = r.summary["max_constraint_violation [m]"].get<double>();
     EXPECT_LT(violation, 1e-10) << preset;
     const VtkLayout& L = r.vtk->layout;
@@ -131,8 +124,8 @@ TEST(VtkGeometry, RodJointPointsSitOnTheCrankPinAndTheJournal) {
 TEST(VtkGeometry, ScaleMultipliesOnlyTheElasticDisplacement) {
   // Three identical (deterministic) runs drawn at s = 0, 1, 37.
   auto run = [](const char* scale) {
-    return RunWithFrames(
-        Preset("flexible-rig", Short({"joint.type=ideal", std::string("vtk.scale=") + scale})));
+    return RunWithFrames(LoadRunInput(
+        "flexible-rig", Short({"joint.type=ideal", std::string("vtk.scale=") + scale})));
   };
   const RunResult r0 = run("0"), r1 = run("1"), r37 = run("37");
   const VtkLayout& L = r0.vtk->layout;
@@ -165,7 +158,7 @@ TEST(VtkGeometry, MidspanDeflectionEqualsTheRodDeflectionChannel) {
   // rod_deflection (run/run.cc) is the midspan node's signed distance from the chord of the
   // end nodes, computed from the rod coordinates alone; the drawn rod at s = 1 must agree.
   const RunResult r =
-      RunWithFrames(Preset("flexible-rig", Short({"joint.type=ideal", "vtk.scale=1"})));
+      RunWithFrames(LoadRunInput("flexible-rig", Short({"joint.type=ideal", "vtk.scale=1"})));
   const VtkLayout& L = r.vtk->layout;
   const auto defl = r.channels.values("rod_deflection");
   const long stride = r.vtk->stride;
@@ -188,7 +181,7 @@ TEST(VtkGeometry, MidspanDeflectionEqualsTheRodDeflectionChannel) {
 // joint points sit on the crank pin and the journal, and the nodal stresses are E times the
 // surface strains the gauges read (fibre 0: axial; ± half depth: bending).
 TEST(VtkGeometry, ExactRodIsDrawnFromItsNodeBodies) {
-  const RunResult r = RunWithFrames(Preset(
+  const RunResult r = RunWithFrames(LoadRunInput(
       "flexible-rig", Short({"rod.type=exact", "joint.type=ideal", "vtk.scale=1",
                              "sim.rel_tol=1e-9", "sim.abs_tol=1e-11", "output.gauges=0.14"})));
   ASSERT_TRUE(r.ok()) << r.status.Summary();
@@ -226,8 +219,8 @@ TEST(VtkGeometry, NodalStressesMatchTheDrawnRodsStrainAndCurvature) {
   // membrane strain is the gauges' (fem::StrainGaugeRows::membrane), projected on the basis's
   // elongation fields, which the drawing cannot show node by node.
   const RunResult r1 = RunWithFrames(
-      Preset("flexible-rig",
-             Short({"joint.type=ideal", "vtk.scale=1", "rod.geometric_stiffening=false"})));
+      LoadRunInput("flexible-rig",
+                   Short({"joint.type=ideal", "vtk.scale=1", "rod.geometric_stiffening=false"})));
   const VtkLayout& L = r1.vtk->layout;
   const Vec2 big_offset(-15e-3, -8e-3);
   const double E = 200e9;           // steel (fem/material.cc)
@@ -264,7 +257,7 @@ TEST(VtkGeometry, NodalStressesMatchTheDrawnRodsStrainAndCurvature) {
 }
 
 TEST(VtkGeometry, ClearanceJointCirclesSitOnTheRodAndTheSlider) {
-  const RunResult r = RunWithFrames(Preset("flexible-rig", Short({"vtk.scale=1"})));
+  const RunResult r = RunWithFrames(LoadRunInput("flexible-rig", Short({"vtk.scale=1"})));
   const VtkLayout& L = r.vtk->layout;
   ASSERT_GE(L.bush_first, 0);
   ASSERT_EQ(L.circle_points, 64);
@@ -288,7 +281,7 @@ TEST(VtkGeometry, ClearanceJointCirclesSitOnTheRodAndTheSlider) {
 
 TEST(VtkGeometry, PendulumDrawsTheRodAboutItsPivot) {
   const RunResult r =
-      RunWithFrames(Preset("flexible-pendulum", {"sim.capture=0.05 s", "vtk.scale=1"}));
+      RunWithFrames(LoadRunInput("flexible-pendulum", {"sim.capture=0.05 s", "vtk.scale=1"}));
   const VtkLayout& L = r.vtk->layout;
   EXPECT_EQ(L.crank_axis, -1);
   EXPECT_EQ(L.slider_first, -1);
@@ -306,7 +299,7 @@ TEST(VtkGeometry, PendulumDrawsTheRodAboutItsPivot) {
 // array). The four-bar draws its crank and its rocker (MechanismRecipe::LayOutParts): the rod's
 // joint points on the crank pin and on the rocker's tip, the rocker's axis on its pivot.
 TEST(VtkGeometry, EveryMechanismDrawsBothRodEndsAndItsOwnParts) {
-  const Config exact = Preset("flexible-pendulum", {"sim.capture=0.02 s", "rod.type=exact"});
+  const Config exact = LoadRunInput("flexible-pendulum", {"sim.capture=0.02 s", "rod.type=exact"});
   const RunResult pendulum = RunWithFrames(exact);
   const VtkLayout& P = pendulum.vtk->layout;
   EXPECT_EQ(P.num_points, P.rod_count + 2);
@@ -320,7 +313,7 @@ TEST(VtkGeometry, EveryMechanismDrawsBothRodEndsAndItsOwnParts) {
     EXPECT_NEAR((f.points[P.small_end] - f.points[P.rod_first + P.rod_count - 1]).norm(), offset,
                 1e-12);
   }
-  const RunResult four_bar = RunWithFrames(Preset(
+  const RunResult four_bar = RunWithFrames(LoadRunInput(
       "flexible-rig",
       Short({"mechanism.type=four-bar", "joint.type=ideal", "sim.start=rigid", "vtk.scale=1"})));
   const VtkLayout& L = four_bar.vtk->layout;
@@ -329,7 +322,7 @@ TEST(VtkGeometry, EveryMechanismDrawsBothRodEndsAndItsOwnParts) {
   ASSERT_GE(L.rocker_tip, 0);
   EXPECT_EQ(L.slider_first, -1);
   EXPECT_EQ(L.bush_first, -1);
-  const Config cfg = Preset("flexible-rig", {});
+  const Config cfg = LoadRunInput("flexible-rig", {});
   const Vec2 pivot(cfg.Quantity("rocker.pivot_x"), cfg.Quantity("rocker.pivot_y"));
   const double c = cfg.Quantity("rocker.length");
   int rocker_cells = 0;
@@ -347,7 +340,7 @@ TEST(VtkGeometry, EveryMechanismDrawsBothRodEndsAndItsOwnParts) {
 
 TEST(VtkFrames, GridFollowsRateAndDuration) {
   auto frames = [](std::vector<std::string> sets) {
-    const RunResult r = RunWithFrames(Preset("rigid-rig", Short(std::move(sets))));
+    const RunResult r = RunWithFrames(LoadRunInput("rigid-rig", Short(std::move(sets))));
     return std::make_tuple(r.vtk->frames.size(), r.vtk->stride, r.vtk->frame_rate, r.vtk->frames);
   };
   {  // 500 samples at 10 kHz, a frame every 10th: k = 0, 10, …, 490.
@@ -374,7 +367,7 @@ TEST(VtkFrames, GridFollowsRateAndDuration) {
     EXPECT_EQ(n, 500u);
   }
   // Without a request (the sweep's call) nothing is recorded or written.
-  const RunResult plain = RunSimulation(Preset("rigid-rig", Short({"joint.type=ideal"})));
+  const RunResult plain = RunSimulation(LoadRunInput("rigid-rig", Short({"joint.type=ideal"})));
   EXPECT_FALSE(plain.vtk.has_value());
 }
 
@@ -383,7 +376,7 @@ TEST(VtkInput, BadValuesNameTheKey) {
     RunOutputOptions o;
     o.record_vtk = true;
     try {
-      RunSimulation(Preset("rigid-rig", Short(sets)), nullptr, false, o);
+      RunSimulation(LoadRunInput("rigid-rig", Short(sets)), nullptr, false, o);
       ADD_FAILURE() << "no InputError for " << key;
     } catch (const InputError& e) {
       EXPECT_EQ(e.key(), key) << e.what();
@@ -393,8 +386,8 @@ TEST(VtkInput, BadValuesNameTheKey) {
   expect_error({"vtk.rate=-1 kHz"}, "vtk.rate");
   expect_error({"vtk.scale=-2"}, "vtk.scale");
   expect_error({"vtk.duration=-1 s"}, "vtk.duration");
-  EXPECT_THROW(Preset("rigid-rig", {"vtk.rate=3 m"}), InputError);  // wrong dimension
-  EXPECT_THROW(Preset("rigid-rig", {"vtk.scale=big"}), InputError);
+  EXPECT_THROW(LoadRunInput("rigid-rig", {"vtk.rate=3 m"}), InputError);  // wrong dimension
+  EXPECT_THROW(LoadRunInput("rigid-rig", {"vtk.scale=big"}), InputError);
 }
 
 }  // namespace
