@@ -201,25 +201,25 @@ study::SweepSession::Outcome Serve(const MpiSession& mpi, const SweepRequest& re
     }
   });
   int workers_active = mpi.size() - 1;
-  while (workers_active > 0 || !ledger.AllDone()) {
-    if (local_failed) {
-      local.join();
-      AbortOn(local_error, "");
-    }
-    int flag = 0;
-    MPI_Status status;
-    Check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe");
-    if (!flag) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      continue;
-    }
-    // An error here (a part that cannot be saved, an MPI failure) aborts every rank, the
-    // local compute thread included: unwinding past it would terminate this rank alone.
-    try {
+  // An error on this thread (a part that cannot be saved, an MPI failure) aborts every rank, the
+  // local compute thread included: unwinding past that thread would terminate this rank alone.
+  try {
+    while (workers_active > 0 || !ledger.AllDone()) {
+      if (local_failed) {
+        local.join();
+        AbortOn(local_error, "");
+      }
+      int flag = 0;
+      MPI_Status status;
+      Check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe");
+      if (!flag) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        continue;
+      }
       AnswerWorker(status, &ledger, session, &workers_active);
-    } catch (const std::exception& e) {
-      Abort(e.what());
     }
+  } catch (const std::exception& e) {
+    Abort(e.what());
   }
   local.join();
   if (local_error) AbortOn(local_error, "");
