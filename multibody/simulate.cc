@@ -454,10 +454,6 @@ int MechanismDae::Roots(double t, const double* y, const double* yp, double* g) 
   return 0;
 }
 
-bool StepControlTrapped(const IntegratorStats& stats) {
-  return stats.steps > 1000 && stats.error_test_failures > stats.steps / 2;
-}
-
 double AutoVelocityTolScale(const Mechanism& model) {
   auto elastic = [&model](int marker) {
     const Marker& m = model.markers()[marker];
@@ -534,11 +530,11 @@ std::string SimulationStatus::Summary() const {
          << worst_error_variable;
     }
   }
-  if (StepControlTrapped(stats)) {
+  if (stats.steps > 1000 && stats.error_test_failures > stats.steps / 2) {
     os << "\n  note: error-test failures on most steps (" << stats.error_test_failures << " of "
        << stats.steps
        << "): stiff elastic coordinates coupled to joints keep the step near "
-          "1/|lambda_max|; tighter abs_tol or rel_tol can take fewer steps";
+          "1/|lambda_max|; raise velocity_tol_scale or change rel_tol";
   }
   os << "\n  steps " << stats.steps << ", residuals " << stats.residual_evaluations
      << ", Jacobians " << stats.jacobian_evaluations << ", Newton iterations "

@@ -119,13 +119,8 @@ class MechanismDae final : public DaeSystem {
 /// reference (0.5 s): slider acceleration 1e-3 (1e3) / 7e-3 (1e4) at rel_tol 1e-7, 2e-4 /
 /// 3e-3 at 1e-8 — tighten rel_tol for accelerations. The extreme 10⁴-stiffer rod traps at 1e4
 /// and runs at 1e3: the trap depends on where the accuracy-limited step falls relative to the
-/// stiff eigenvalues; StepControlTrapped flags it.
+/// stiff eigenvalues; SimulationStatus::Summary() flags it.
 inline constexpr double kElasticJointVelocityTolScale = 1e4;
-/// True when the error test failed on more than half of over 1000 steps: the step control is
-/// caught as kElasticJointVelocityTolScale describes (a step that passes, then one that fails,
-/// over and over). Tightening the tolerances moves the accuracy-limited step away from the
-/// trap and can take far fewer steps (tests/run/run_test.cc, RunRobustness).
-bool StepControlTrapped(const IntegratorStats& stats);
 /// 1 if every joint and force-element marker moves only with frame coordinates (rigid bodies,
 /// frame points of flexible bodies), kElasticJointVelocityTolScale otherwise.
 double AutoVelocityTolScale(const Mechanism& model);

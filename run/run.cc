@@ -170,14 +170,6 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
                             " J, more than 1 % of the peak "
                             "kinetic energy: the run is not converged; tighten sim.rel_tol");
   }
-  const multibody::IntegratorStats& is = run.status.stats;
-  if (multibody::StepControlTrapped(is)) {
-    s["warnings"].push_back(
-        "the integrator's error test failed on " + std::to_string(is.error_test_failures) + " of " +
-        std::to_string(is.steps) +
-        " steps: its step is caught near a stiff elastic frequency of the rod, where every "
-        "larger step fails; a tighter sim.abs_tol or sim.rel_tol can take far fewer steps");
-  }
   s["energy"] = {{"max_balance_error [J]", worst},
                  {"max_kinetic [J]", scale},
                  {"relative_balance_error", scale > 0 ? worst / scale : 0.0}};
