@@ -183,7 +183,9 @@ static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vecto
       // the entries written and nnz, not N². An entry outside the pattern is a model bug; the
       // whole scratch is checked for one at the first Jacobian and at every
       // kPatternCheckInterval-th (an entry outside is never gathered, so until then it only
-      // costs Newton iterations, never the solution, which the residual decides).
+      // costs Newton iterations, never the solution, which the residual decides). IDA zeroes
+      // the matrix before each call, its index arrays included (SUNMatZero_Sparse), so the
+      // pattern's indices are written again with the values.
       constexpr long kPatternCheckInterval = 64;
       double* D = impl->dense_scratch.data();
       rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), D);
