@@ -121,7 +121,7 @@ class MechanismDae final : public DaeSystem {
 /// and runs at 1e3: the trap depends on where the accuracy-limited step falls relative to the
 /// stiff eigenvalues; SimulationStatus::Summary() flags it. IdaIntegrator's step-growth guard
 /// (multibody/ida_integrator.cc, kGrowthWindow) limits the step growth while most steps fail,
-/// which frees the step control in the cases measured there.
+/// which frees the step control on the cases measured when it was added (commit ca42b32).
 inline constexpr double kElasticJointVelocityTolScale = 1e4;
 /// 1 if every joint and force-element marker moves only with frame coordinates (rigid bodies,
 /// frame points of flexible bodies), kElasticJointVelocityTolScale otherwise.
