@@ -89,18 +89,16 @@ void AddBodyJacobian(const Mechanism& model, RunData* data, size_t bi, double cj
     // Quadrature: damping power q̇ᵀDq̇.
     J.block(QD + kDissipatedDamping, V + kFirstMode, 1, n) -= 2.0 * s.Dqd.transpose();
     if (b.geometric_stiffening) {
-      AddSecondOrderStrainJacobian(b, &s);
+      AddSecondOrderStrainJacobian(b, qd, &s);
       J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jg;
       if (b.strain_damping) {
-        J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jkv_q;
         J.block(R + kFirstMode, V + kFirstMode, n, n) += s.Jkv_qd;
         // Damping power q̇ᵀ F_d: F_d is linear in q̇ (Cᵀ D C q̇), so ∂/∂q̇ is 2 F_d above.
-        J.block(QD + kDissipatedDamping, P + kFirstMode, 1, n).noalias() -=
-            qd.transpose() * s.Jkv_q;
+        J.block(QD + kDissipatedDamping, P + kFirstMode, 1, n) -= s.damping_row;
       }
       // Stiffening power P_s = −q̇ᵀ F_g(q).
       J.block(QD + kStiffeningWork, V + kFirstMode, 1, n) += s.Fg.transpose();
-      J.block(QD + kStiffeningWork, P + kFirstMode, 1, n).noalias() += qd.transpose() * s.Jg;
+      J.block(QD + kStiffeningWork, P + kFirstMode, 1, n) += s.stiffening_row;
     }
   }
 }

@@ -105,46 +105,51 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   s->Sqd.noalias() = b.Stilde * qd;
 }
 
-// Σ_e c_e T_eᵀ K_G T_e (n × n): the nodal rows Σ_e c_e K_G T_e, then one product with Tᵀ.
-void AddWeightedKg(const Body& b, const Vec& c, BodyScratch* s, Mat* out) {
-  s->node_kgt.setZero();
-  for (int e = 0; e < b.num_elements(); ++e) {
-    s->node_kgt.middleRows<4>(2 * e).noalias() +=
-        c(e) * (b.element_Kg * b.transverse_rows.middleRows<4>(2 * e));
-  }
-  out->noalias() += b.transverse_rows.transpose() * s->node_kgt;
+// Σ_e c_e T_eᵀ K_G T_e (n × n) as one product with the elements' T_eᵀ K_G T_e
+// (Body::element_kg_products).
+void AddWeightedKg(const Body& b, const Vec& c, Mat* out) {
+  Eigen::Map<Vec>(out->data(), out->size()).noalias() += b.element_kg_products * c;
 }
 
-// With S = ∂s/∂q (rows (K_G w_e)ᵀ T_e) and H = Sᵀ V:
+// With S = ∂s/∂q (rows (K_G w_e)ᵀ T_e), Ṡ (rows (K_G ẇ_e)ᵀ T_e) and H = Sᵀ V:
 //   ∂F_g/∂q = Σ_e N_e T_eᵀ K_G T_e + k (Sᵀ E + Eᵀ S) + k H Hᵀ;
-// and with strain damping, C = I + B S, Ṡ (rows (K_G ẇ_e)ᵀ T_e):
+// and with strain damping, C = I + B S:
 //   ∂F_d/∂q̇ = Cᵀ D C,  ∂F_d/∂q = Cᵀ D B Ṡ + Σ_e h_e T_eᵀ K_G T_e.
-void AddSecondOrderStrainJacobian(const Body& b, BodyScratch* s) {
+// The two sums over the elements are one (N + h weights), and q̇ᵀ Σ_e c_e T_eᵀ K_G T_e = cᵀ Ṡ
+// gives the power rows without them.
+void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s) {
   const double k = b.element_axial_stiffness;
   const int ne = b.num_elements();
+  // T q̇: UpdateStrainDamping's, or computed here.
+  if (!b.strain_damping) s->node_wd.noalias() = b.transverse_rows * qd;
   for (int e = 0; e < ne; ++e) {
-    s->short_jac.row(e).noalias() =
-        s->element_kgw.segment<4>(4 * e).transpose() * b.transverse_rows.middleRows<4>(2 * e);
+    const auto Te = b.transverse_rows.middleRows<4>(2 * e);
+    s->short_jac.row(e).noalias() = s->element_kgw.segment<4>(4 * e).transpose() * Te;
+    const Eigen::Vector4d kwd = b.element_Kg * s->node_wd.segment<4>(2 * e);
+    s->short_rate_jac.row(e).noalias() = kwd.transpose() * Te;
   }
   s->dmap.noalias() = k * (s->short_jac.transpose() * b.elongation_rows);  // k Sᵀ E
   s->Jg = s->dmap + s->dmap.transpose();
   s->H.noalias() = s->short_jac.transpose() * b.element_strain_basis;
   s->Jg.noalias() += k * (s->H * s->H.transpose());
-  AddWeightedKg(b, s->element_force, s, &s->Jg);
-  if (!b.strain_damping) return;
-  for (int e = 0; e < ne; ++e) {
-    const Eigen::Vector4d kwd = b.element_Kg * s->node_wd.segment<4>(2 * e);
-    s->short_rate_jac.row(e).noalias() = kwd.transpose() * b.transverse_rows.middleRows<4>(2 * e);
+  s->stiffening_row.noalias() = qd.transpose() * s->Jg;
+  s->stiffening_row.noalias() += s->element_force.transpose() * s->short_rate_jac;
+  s->kg_weights = s->element_force;
+  if (b.strain_damping) {
+    s->strain_map.setIdentity();
+    s->strain_map.noalias() += b.shortening_to_q * s->short_jac;
+    s->dmap.noalias() = b.D * s->strain_map;
+    s->Jkv_qd.noalias() = s->strain_map.transpose() * s->dmap;
+    s->Jkv_qd -= b.D;  // the residual's velocity block already has D
+    s->bsd.noalias() = b.shortening_to_q * s->short_rate_jac;
+    s->dmap.noalias() = b.D * s->bsd;
+    s->Jkv_q.noalias() = s->strain_map.transpose() * s->dmap;
+    s->damping_row.noalias() = qd.transpose() * s->Jkv_q;
+    s->damping_row.noalias() += s->damping_h.transpose() * s->short_rate_jac;
+    s->Jg += s->Jkv_q;
+    s->kg_weights += s->damping_h;
   }
-  s->strain_map.setIdentity();
-  s->strain_map.noalias() += b.shortening_to_q * s->short_jac;
-  s->dmap.noalias() = b.D * s->strain_map;
-  s->Jkv_qd.noalias() = s->strain_map.transpose() * s->dmap;
-  s->Jkv_qd -= b.D;  // the residual's velocity block already has D
-  s->bsd.noalias() = b.shortening_to_q * s->short_rate_jac;
-  s->dmap.noalias() = b.D * s->bsd;
-  s->Jkv_q.noalias() = s->strain_map.transpose() * s->dmap;
-  AddWeightedKg(b, s->damping_h, s, &s->Jkv_q);
+  AddWeightedKg(b, s->kg_weights, &s->Jg);
 }
 
 // M(θ, q), ffrf-planar.md "Mass matrix".

@@ -25,11 +25,10 @@ inline const double kFdStep = std::cbrt(std::numeric_limits<double>::epsilon());
 void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s,
                 bool dynamics = true);
 
-// With S = ∂s/∂q (rows (K_G w_e)ᵀ T_e) and H = Sᵀ V:
-//   ∂F_g/∂q = Σ_e N_e T_eᵀ K_G T_e + k (Sᵀ E + Eᵀ S) + k H Hᵀ;
-// and with strain damping, C = I + B S, Ṡ (rows (K_G ẇ_e)ᵀ T_e):
-//   ∂F_d/∂q̇ = Cᵀ D C,  ∂F_d/∂q = Cᵀ D B Ṡ + Σ_e h_e T_eᵀ K_G T_e.
-void AddSecondOrderStrainJacobian(const Body& b, BodyScratch* s);
+// The second-order strain's Jacobian pieces at q̇ (after UpdateBody): BodyScratch::Jg =
+// ∂(F_g + F_d)/∂q, Jkv_qd = ∂F_d/∂q̇ − D, and the power rows q̇ᵀ ∂F_g/∂q (stiffening_row) and
+// q̇ᵀ ∂F_d/∂q (damping_row); F_d, Jkv_qd and damping_row with strain damping only.
+void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s);
 
 // M(θ, q), ffrf-planar.md "Mass matrix".
 void FillMassMatrix(const Body& b, const BodyScratch& s, const double* pb, Mat* M);

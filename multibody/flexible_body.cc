@@ -95,6 +95,12 @@ void SetSecondOrderStrain(const fem::ReducedRod& rod, Body* b) {
                                    rod.element_Kg(kTransverse[j], kTransverse[i]));
     }
   }
+  b->element_kg_products.resize(static_cast<Eigen::Index>(n) * n, ne);
+  for (int e = 0; e < ne; ++e) {
+    const auto Te = b->transverse_rows.middleRows<4>(2 * e);
+    const Mat G = Te.transpose() * b->element_Kg * Te;
+    b->element_kg_products.col(e) = Eigen::Map<const Vec>(G.data(), G.size());
+  }
   const fem::ElongationSpace space = rod.Elongation();
   b->element_strain_basis = space.basis;
   b->shortening_to_q = space.shortening_to_q;

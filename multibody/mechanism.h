@@ -182,6 +182,9 @@ struct Body {
   Mat elongation_rows;  ///< E: elongations δ = E q (num_elements × n) [m]
   double element_axial_stiffness{0.0};  ///< E A / L_e [N/m]
   Eigen::Matrix4d element_Kg;           ///< K_G on w_e per newton of tension [1/m]
+  /// Column e: T_eᵀ K_G T_e (n × n, column-major) [1/m] (n² × num_elements), so that
+  /// Σ_e c_e T_eᵀ K_G T_e is one matrix-vector product.
+  Mat element_kg_products;
   /// V (num_elements × r), orthonormal columns spanning the elongation fields δ(q): P = V Vᵀ.
   Mat element_strain_basis;
   /// B = E⁺ P (n × num_elements), E = ∂δ/∂q: q̃ = q + B s(q) has the strains as elongations.

@@ -26,9 +26,10 @@ void ResizeBodyScratch(const Body& b, BodyScratch* s) {
   s->element_force = Vec::Zero(ne);
   s->node_force = Vec::Zero(nw);
   s->short_jac = Mat::Zero(ne, n);
-  s->node_kgt = Mat::Zero(nw, n);
   s->H = Mat::Zero(n, r);
   s->Jg = Mat::Zero(n, n);
+  s->kg_weights = Vec::Zero(ne);
+  s->stiffening_row = RowVec::Zero(n);
   s->node_wd = Vec::Zero(nw);
   s->element_short_rate = Vec::Zero(ne);
   s->strain_velocity = Vec::Zero(n);
@@ -41,6 +42,7 @@ void ResizeBodyScratch(const Body& b, BodyScratch* s) {
   s->bsd = Mat::Zero(n, n);
   s->Jkv_q = Mat::Zero(n, n);
   s->Jkv_qd = Mat::Zero(n, n);
+  s->damping_row = RowVec::Zero(n);
   s->Dqd = Vec::Zero(n);
   s->Sqd = Vec::Zero(n);
   s->M = Mat::Zero(nb, nb);

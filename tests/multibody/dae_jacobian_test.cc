@@ -118,6 +118,13 @@ TEST(DaeJacobian, MatchesFiniteDifferencesWithKelvinVoigtDamping) {
   ExpectJacobianMatches(25.0, 5, DampingSpec::Rayleigh(0.0, 5e-3));
 }
 
+// Without damping the second-order strain has no strain damping: the stiffening power row's
+// q̇ᵀ Σ_e N_e T_eᵀ K_G T_e then needs the nodes' rates T q̇ computed by the Jacobian itself.
+TEST(DaeJacobian, MatchesFiniteDifferencesWithoutDamping) {
+  ExpectJacobianMatches(0.0, 6, DampingSpec::None());
+  ExpectJacobianMatches(25.0, 7, DampingSpec::None());
+}
+
 // Negative control: the comparison does catch a Jacobian that is wrong by 1e-4 in one
 // configuration-dependent entry (the prismatic-joint Hessian block of the rod).
 TEST(DaeJacobian, ComparisonDetectsAWrongEntry) {

@@ -87,12 +87,17 @@ TEST(ExactRodReference, FlexibleRigReducedRodMatchesTheExactRod) {
   EXPECT_NEAR(reduced.stress_peak, exact.stress_peak, 0.03 * exact.stress_peak);
 }
 
-// The same for issue 23's second case: brass 12.7 mm, 0.5 mm, 250 rpm (12.5 revolutions, impact
-// bearing forces near 1.9 kN, above the rod's buckling load). Measured: −0.9 %, −1.9 %, −2.8 %,
-// +0.9 % (exact rod 16 s, 164 075 steps; reduced 4.9 s).
+// The same for issue 23's second case: brass 12.7 mm, 0.5 mm, 250 rpm (impact bearing forces
+// near 1.9 kN, above the rod's buckling load). This regime is sensitive to the trajectory: over
+// the preset's 3 s (12.5 revolutions) the reduced rod's own peak bearing force read 1809 / 1778 /
+// 1875 N at the default / 10x / 100x tighter tolerances (a round-off change of the Jacobian moved
+// it 1.5 %), so, as issue 24 asks of such regimes, the statistics are taken over 5 s (20.8
+// revolutions), where they read 1850 / 1875 / 1875 N. Measured against the exact rod (1890 N):
+// p95 |a| −0.04 %, p95 bearing force −0.36 %, peak bearing force −2.1 %, peak gauge stress
+// +0.28 % (reduced 339 275 steps, exact rod 404 019).
 TEST(ExactRodReference, BrassRodAt250RpmReducedRodMatchesTheExactRod) {
   const std::vector<std::string> brass = {"rod.material=brass", "rod.height=12.7 mm",
-                                          "drive.speed=250 rpm"};
+                                          "drive.speed=250 rpm", "sim.capture=5 s"};
   const RigFigures reduced = FlexibleRig("flexible", brass);
   const RigFigures exact = FlexibleRig("exact", brass);
   EXPECT_NEAR(reduced.acc_p95, exact.acc_p95, 0.03 * exact.acc_p95);
