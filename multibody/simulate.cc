@@ -534,7 +534,8 @@ std::string SimulationStatus::Summary() const {
     os << "\n  note: error-test failures on most steps (" << stats.error_test_failures << " of "
        << stats.steps
        << "): stiff elastic coordinates coupled to joints keep the step near "
-          "1/|lambda_max|; raise velocity_tol_scale or change rel_tol";
+          "1/|lambda_max|; loosened tolerances can cause this: tighten sim.rel_tol and "
+          "sim.abs_tol";
   }
   os << "\n  steps " << stats.steps << ", residuals " << stats.residual_evaluations
      << ", Jacobians " << stats.jacobian_evaluations << ", Newton iterations "

@@ -234,6 +234,21 @@ TEST(IntegratorFailure, RootThatStaysZeroIsPassedByReinitialising) {
 }
 
 // A slider line 0.3 m away from a 0.05 m crank with a 0.2 m rod cannot be assembled.
+// A run whose steps mostly fail the error test gets a note with keys a user can set.
+TEST(IntegratorFailure, MostStepsFailingTheErrorTestGivesANoteWithInputKeys) {
+  SimulationStatus st;
+  st.outcome = SimulationOutcome::kCompleted;
+  st.stats.steps = 2000;
+  st.stats.error_test_failures = 1500;
+  const std::string text = st.Summary();
+  EXPECT_NE(text.find("error-test failures on most steps (1500 of 2000)"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("sim.rel_tol"), std::string::npos) << text;
+  EXPECT_NE(text.find("sim.abs_tol"), std::string::npos) << text;
+  st.stats.error_test_failures = 900;
+  EXPECT_EQ(st.Summary().find("on most steps"), std::string::npos);
+}
+
 TEST(IntegratorFailure, ImpossibleAssemblyIsAnInitialConditionFailure) {
   SliderCrankParams P;
   P.e = 0.3;
