@@ -36,8 +36,8 @@ struct BodyScratch {
   Mat short_jac;        ///< S = ∂s/∂q (num_elements × n), Jacobian only
   Mat H;                ///< Sᵀ V (n × r), Jacobian only
   Mat Jg;               ///< ∂(F_g + F_d)/∂q (n × n), Jacobian only
-  Vec kg_weights;  ///< N_e + h_e, the weights of Σ_e T_eᵀ K_G T_e (num_elements), Jacobian only
-  RowVec stiffening_row;  ///< q̇ᵀ ∂F_g/∂q (1 × n) [N m/s], Jacobian only
+  Vec kg_weights;  ///< N_e + h_e, the weights of Σ_e T_eᵀ K_G T_e (num_elements) [N], Jacobian only
+  RowVec stiffening_row;  ///< q̇ᵀ ∂F_g/∂q (1 × n) [N/s], Jacobian only
   // Damping of the second-order strains (Body::strain_damping).
   Vec node_wd;             ///< T q̇ (2 (num_elements + 1)) [m/s, rad/s]
   Vec element_short_rate;  ///< ṡ_e (num_elements) [m/s]
@@ -49,7 +49,7 @@ struct BodyScratch {
   Mat strain_map;          ///< C = I + B S (n × n), Jacobian only
   Mat dmap, bsd;           ///< n × n work, Jacobian only
   Mat Jkv_q, Jkv_qd;       ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n), Jacobian only
-  RowVec damping_row;      ///< q̇ᵀ ∂F_d/∂q (1 × n) [N m/s], Jacobian only
+  RowVec damping_row;      ///< q̇ᵀ ∂F_d/∂q (1 × n) [N/s], Jacobian only
   Vec Dqd;                 ///< D q̇ (n) [N]
   Vec Sqd;                 ///< S̃ q̇ (n)
   Mat M;                   ///< mass matrix (nb × nb)

@@ -233,7 +233,6 @@ TEST(IntegratorFailure, RootThatStaysZeroIsPassedByReinitialising) {
   for (size_t k = 0; k < c.times.size(); ++k) EXPECT_NEAR(c.times[k], 1e-3 * k, 1e-12) << k;
 }
 
-// A slider line 0.3 m away from a 0.05 m crank with a 0.2 m rod cannot be assembled.
 // A run whose steps mostly fail the error test gets a note with keys a user can set.
 TEST(IntegratorFailure, MostStepsFailingTheErrorTestGivesANoteWithInputKeys) {
   SimulationStatus st;
@@ -249,6 +248,7 @@ TEST(IntegratorFailure, MostStepsFailingTheErrorTestGivesANoteWithInputKeys) {
   EXPECT_EQ(st.Summary().find("on most steps"), std::string::npos);
 }
 
+// A slider line 0.3 m away from a 0.05 m crank with a 0.2 m rod cannot be assembled.
 TEST(IntegratorFailure, ImpossibleAssemblyIsAnInitialConditionFailure) {
   SliderCrankParams P;
   P.e = 0.3;
