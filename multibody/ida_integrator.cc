@@ -23,6 +23,7 @@
 
 #include "common/scope_timer.h"
 #include "multibody/ida_timed_solver.h"
+#include "multibody/serial_vector_ops.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -367,6 +368,7 @@ void IdaIntegrator::Impl::CreateVectors(const double* y0, const double* yp0, dou
   // bookkeeping single passes over memory; IDA's internal vectors are clones of y and inherit.
   for (N_Vector v : {y, yp, tmp, tmp2}) {
     CheckFlag(N_VEnableFusedOps_Serial(v, SUNTRUE), "N_VEnableFusedOps_Serial");
+    UseCompiledSerialOps(v);
   }
   std::memcpy(NV_DATA_S(y), y0, sizeof(double) * n);
   std::memcpy(NV_DATA_S(yp), yp0, sizeof(double) * n);
