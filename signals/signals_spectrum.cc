@@ -2,11 +2,15 @@
 #include "signals/signals_spectrum.h"
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_fft_complex.h>
 #include <gsl/gsl_fft_real.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <vector>
 
 #include "common/error.h"
 
@@ -48,6 +52,95 @@ struct WavetableDeleter {
 };
 struct WorkspaceDeleter {
   void operator()(gsl_fft_real_workspace* p) const { gsl_fft_real_workspace_free(p); }
+};
+
+// GSL's mixed-radix FFT costs O(n p) for a length with a prime factor p beyond its radices (a
+// prime length: n²; 299 999 = 7 · 17 · 2521 samples, about 1.6 s). Above this factor the DFT is
+// taken by Bluestein's chirp-z algorithm instead: O(m log m) with m >= 2n − 1 a power of two,
+// the same DFT to round-off. Measured (bench_signals, flat-top, ~3·10⁴ samples): p = 101 mixed
+// radix 6.8 ms, Bluestein 12.6 ms; p = 997 mixed radix 72 ms, Bluestein 29 ms.
+constexpr std::size_t kMaxMixedRadixFactor = 300;
+
+std::size_t LargestPrimeFactor(std::size_t n) {
+  std::size_t largest = 1;
+  for (std::size_t f = 2; f * f <= n; ++f) {
+    while (n % f == 0) {
+      largest = f;
+      n /= f;
+    }
+  }
+  return n > 1 ? std::max(largest, n) : largest;
+}
+
+void CheckGsl(int status, const char* what) {
+  if (status != GSL_SUCCESS) {
+    throw NumericalError(std::string(what) + " failed: " + gsl_strerror(status));
+  }
+}
+
+// Bluestein (L. I. Bluestein, "A linear filtering approach to the computation of discrete
+// Fourier transform", IEEE Trans. Audio Electroacoust. 18(4):451–455, 1970): with
+// jk = (j² + k² − (k − j)²)/2 and w_j = exp(iπ j²/n), X_k = w̄_k Σ_j (x_j w̄_j) w_(k−j), a
+// convolution, done cyclically over m >= 2n − 1 points by radix-2 FFTs.
+struct Chirp {
+  std::size_t m{0};
+  std::vector<double> w;   // w_j, j < n (interleaved re, im)
+  std::vector<double> bf;  // FFT of b: b_j = w_|j| for |j| < n, cyclic over m
+  std::vector<double> a;   // work: 2 m
+
+  explicit Chirp(std::size_t n) {
+    m = 1;
+    while (m < 2 * n - 1) m *= 2;
+    w.resize(2 * n);
+    const auto two_n = static_cast<std::uint64_t>(2 * n);
+    for (std::size_t j = 0; j < n; ++j) {
+      // j² mod 2n keeps the angle exact for long records.
+      const std::uint64_t r = (static_cast<std::uint64_t>(j) * j) % two_n;
+      const double phi = std::numbers::pi * static_cast<double>(r) / static_cast<double>(n);
+      w[2 * j] = std::cos(phi);
+      w[2 * j + 1] = std::sin(phi);
+    }
+    bf.assign(2 * m, 0.0);
+    for (std::size_t j = 0; j < n; ++j) {
+      bf[2 * j] = w[2 * j];
+      bf[2 * j + 1] = w[2 * j + 1];
+      if (j > 0) {
+        bf[2 * (m - j)] = w[2 * j];
+        bf[2 * (m - j) + 1] = w[2 * j + 1];
+      }
+    }
+    CheckGsl(gsl_fft_complex_radix2_forward(bf.data(), 1, m), "gsl_fft_complex_radix2_forward");
+    a.resize(2 * m);
+  }
+
+  // The DFT of the real x (n values) into GSL's half-complex layout (gsl_fft_real_transform's).
+  void Transform(const double* x, std::size_t n, double* halfcomplex) {
+    std::fill(a.begin(), a.end(), 0.0);
+    for (std::size_t j = 0; j < n; ++j) {  // x_j w̄_j
+      a[2 * j] = x[j] * w[2 * j];
+      a[2 * j + 1] = -x[j] * w[2 * j + 1];
+    }
+    CheckGsl(gsl_fft_complex_radix2_forward(a.data(), 1, m), "gsl_fft_complex_radix2_forward");
+    for (std::size_t k = 0; k < m; ++k) {
+      const double re = a[2 * k] * bf[2 * k] - a[2 * k + 1] * bf[2 * k + 1];
+      const double im = a[2 * k] * bf[2 * k + 1] + a[2 * k + 1] * bf[2 * k];
+      a[2 * k] = re;
+      a[2 * k + 1] = im;
+    }
+    CheckGsl(gsl_fft_complex_radix2_inverse(a.data(), 1, m), "gsl_fft_complex_radix2_inverse");
+    for (std::size_t k = 0; 2 * k <= n; ++k) {  // X_k = w̄_k c_k
+      const double re = a[2 * k] * w[2 * k] + a[2 * k + 1] * w[2 * k + 1];
+      const double im = a[2 * k + 1] * w[2 * k] - a[2 * k] * w[2 * k + 1];
+      if (k == 0) {
+        halfcomplex[0] = re;
+      } else if (2 * k == n) {
+        halfcomplex[n - 1] = re;
+      } else {
+        halfcomplex[2 * k - 1] = re;
+        halfcomplex[2 * k] = im;
+      }
+    }
+  }
 };
 
 }  // namespace
@@ -102,6 +195,7 @@ struct SpectrumAnalyzer::Impl {
   std::vector<double> scratch;  // windowed data, transformed in place (half-complex)
   std::unique_ptr<gsl_fft_real_wavetable, WavetableDeleter> wavetable;
   std::unique_ptr<gsl_fft_real_workspace, WorkspaceDeleter> workspace;
+  std::unique_ptr<Chirp> chirp;  // lengths with a large prime factor (kMaxMixedRadixFactor)
 };
 
 SpectrumAnalyzer::SpectrumAnalyzer(std::size_t num_samples, double sample_rate, Window window) {
@@ -119,6 +213,10 @@ SpectrumAnalyzer::SpectrumAnalyzer(std::size_t num_samples, double sample_rate, 
   p.weight_sum = 0.0;
   for (double w : p.weights) p.weight_sum += w;
   p.scratch.resize(num_samples);
+  if (LargestPrimeFactor(num_samples) > kMaxMixedRadixFactor) {
+    p.chirp = std::make_unique<Chirp>(num_samples);
+    return;
+  }
   p.wavetable.reset(gsl_fft_real_wavetable_alloc(num_samples));
   p.workspace.reset(gsl_fft_real_workspace_alloc(num_samples));
   if (!p.wavetable || !p.workspace) {
@@ -142,10 +240,11 @@ void SpectrumAnalyzer::Calc(std::span<const double> x, Spectrum* out) {
                      "the analyzer was planned for " + std::to_string(p.n) + " samples");
   }
   for (std::size_t j = 0; j < p.n; ++j) p.scratch[j] = p.weights[j] * x[j];
-  const int status =
-      gsl_fft_real_transform(p.scratch.data(), 1, p.n, p.wavetable.get(), p.workspace.get());
-  if (status != GSL_SUCCESS) {
-    throw NumericalError(std::string("gsl_fft_real_transform failed: ") + gsl_strerror(status));
+  if (p.chirp) {
+    p.chirp->Transform(p.scratch.data(), p.n, p.scratch.data());
+  } else {
+    CheckGsl(gsl_fft_real_transform(p.scratch.data(), 1, p.n, p.wavetable.get(), p.workspace.get()),
+             "gsl_fft_real_transform");
   }
   // Half-complex layout (GSL manual, "Mixed-radix FFT routines for real data"):
   // data[0] = Re X_0; data[2k−1], data[2k] = Re, Im X_k for 0 < k < N − k; data[N−1] = Re X_{N/2}

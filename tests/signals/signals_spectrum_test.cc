@@ -63,7 +63,7 @@ TEST(Spectrum, BinCentredSineReadsItsAmplitudeWithEveryWindow) {
 }
 
 TEST(Spectrum, AnyLengthWorksIncludingPrimes) {
-  // 997 is prime: GSL's mixed-radix transform handles it (no zero padding, no radix-2 demand).
+  // 997 is prime: Bluestein's transform handles it (no zero padding, no radix-2 demand).
   const Spectrum s =
       CalcAmplitudeSpectrum(Sine(997, 997.0, 1.25, 31.0), 997.0, Window::kRectangular);
   ASSERT_EQ(s.num_bins(), 499u);  // odd N: bins 0..498, no Nyquist bin
@@ -118,10 +118,11 @@ TEST(Spectrum, ParsevalHoldsWithRectangularWindow) {
 
 TEST(Spectrum, MatchesDirectDftForOddAndEvenLengthsWithWindow) {
   // Independent formulation: the O(N²) DFT sum of the windowed data, single-sided and
-  // normalised by Σw.
+  // normalised by Σw. 15, 16, 105, 211 (prime): GSL's mixed-radix transform; 614 = 2 · 307,
+  // 401 (prime), 2018 = 2 · 1009: a prime factor above 300, Bluestein's chirp-z transform.
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  for (std::size_t n : {15u, 16u, 105u}) {
+  for (std::size_t n : {15u, 16u, 105u, 211u, 614u, 401u, 2018u}) {
     std::vector<double> x(n), w(n);
     for (double& v : x) v = uni(rng);
     FillWindow(Window::kBlackmanHarris, w);
