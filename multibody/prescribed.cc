@@ -192,13 +192,20 @@ void PrescribedMotion::Reduce(const double* full, double* reduced) const {
   for (int i = 0; i < n; ++i) reduced[i] = full[kept_unknowns_[i]];
 }
 
-void PrescribedMotion::AddReducedMatrix(const double* full, double* reduced) const {
+void PrescribedMotion::MoveReducedMatrix(const SparsityPattern& pattern, double* full,
+                                         double* reduced) const {
+  FLEXROD_ASSERT(pattern.size == full_size_);
   const int n = size();
   const size_t N = static_cast<size_t>(full_size_);
-  for (int c = 0; c < n; ++c) {
-    const double* col = full + static_cast<size_t>(kept_unknowns_[c]) * N;
-    double* out = reduced + static_cast<size_t>(c) * n;
-    for (int r = 0; r < n; ++r) out[r] += col[kept_rows_[r]];
+  for (int c = 0, kept = 0; c < full_size_; ++c) {
+    double* col = full + static_cast<size_t>(c) * N;
+    const bool keep = kept < n && kept_unknowns_[kept] == c;
+    double* out = keep ? reduced + static_cast<size_t>(kept++) * n : nullptr;
+    for (int64_t k = pattern.col_ptr[c]; k < pattern.col_ptr[c + 1]; ++k) {
+      const int64_t r = pattern.row_index[k];
+      if (out != nullptr && row_to_reduced_[r] >= 0) out[row_to_reduced_[r]] += col[r];
+      col[r] = 0.0;
+    }
   }
 }
 

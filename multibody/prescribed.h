@@ -55,9 +55,11 @@ class PrescribedMotion {
   void ExpandPrescribed(double t, double* y_full, double* yp_full) const;
   /// Gathers the kept unknowns of a full vector.
   void Reduce(const double* full, double* reduced) const;
-  /// Gathers the kept rows and kept columns of a full column-major N×N matrix (ld = N) into
-  /// the reduced n×n one (ld = n), adding.
-  void AddReducedMatrix(const double* full, double* reduced) const;
+  /// Moves the kept rows and kept columns of a full column-major N×N matrix (ld = N) into the
+  /// reduced n×n one (ld = n), adding, reading and zeroing only the entries of `pattern` (the
+  /// full Jacobian's), every column's: a matrix written inside its pattern is zero after, at a
+  /// cost of nnz, not N².
+  void MoveReducedMatrix(const SparsityPattern& pattern, double* full, double* reduced) const;
   /// The kept rows and columns of a full pattern, renumbered.
   SparsityPattern ReducePattern(const SparsityPattern& full) const;
 

@@ -366,7 +366,8 @@ MechanismDae::MechanismDae(const Mechanism& model, RunData* data,
       y_full_(Vec::Zero(model.size())),
       yp_full_(Vec::Zero(model.size())),
       r_full_(Vec::Zero(model.size())),
-      jac_full_(Mat::Zero(model.size(), model.size())) {
+      jac_full_(Mat::Zero(model.size(), model.size())),
+      full_pattern_(multibody::JacobianPattern(model)) {
   FLEXROD_ASSERT(data->model == &model);
   FLEXROD_ASSERT(prescribed.full_size() == model.size());
 }
@@ -433,15 +434,28 @@ int MechanismDae::Jacobian(double t, double cj, const double* y, const double* y
     return AddJacobian(model_, data_, t, cj, y, yp, jac, model_.size());
   }
   Expand(t, y, yp);
-  jac_full_.setZero();
   const int rc = AddJacobian(model_, data_, t, cj, y_full_.data(), yp_full_.data(),
                              jac_full_.data(), model_.size());
-  prescribed_.AddReducedMatrix(jac_full_.data(), jac);
+  prescribed_.MoveReducedMatrix(full_pattern_, jac_full_.data(), jac);
+  // An entry outside the pattern is neither moved nor cleared: a model bug, looked for at the
+  // first Jacobian and every kPatternCheckInterval-th (as IdaIntegrator checks the reduced one).
+  constexpr long kPatternCheckInterval = 64;
+  if (jacobians_++ % kPatternCheckInterval == 0) {
+    for (Eigen::Index c = 0; c < jac_full_.cols(); ++c) {
+      for (Eigen::Index r = 0; r < jac_full_.rows(); ++r) {
+        if (jac_full_(r, c) == 0.0) continue;
+        jac_full_.setZero();
+        throw NumericalError("Jacobian entry (" + std::to_string(r) + ", " + std::to_string(c) +
+                             ") of the full mechanism lies outside its sparsity pattern (model "
+                             "bug)");
+      }
+    }
+  }
   return rc;
 }
 
 SparsityPattern MechanismDae::JacobianPattern() const {
-  return prescribed_.ReducePattern(multibody::JacobianPattern(model_));
+  return prescribed_.ReducePattern(full_pattern_);
 }
 
 int MechanismDae::Roots(double t, const double* y, const double* yp, double* g) {

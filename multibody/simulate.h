@@ -103,7 +103,9 @@ class MechanismDae final : public DaeSystem {
   std::optional<IndexEventSpec> index_;
   double velocity_tol_scale_, energy_tol_scale_;
   Vec y_full_, yp_full_, r_full_;  ///< full-layout scratch
-  Mat jac_full_;
+  Mat jac_full_;                   // zero between Jacobians (MoveReducedMatrix)
+  SparsityPattern full_pattern_;   // the full Jacobian's
+  long jacobians_{0};              // Jacobians evaluated (the pattern check's interval)
 };
 
 // ---- run loop -----------------------------------------------------------------------------------

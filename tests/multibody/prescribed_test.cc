@@ -196,6 +196,11 @@ TEST(PrescribedMotion, ReducedJacobianMatchesFiniteDifferencesOfTheReducedResidu
   for (int i = 0; i < n; ++i) y(i) += 1e-3 * std::sin(1.0 + i);  // off the solution, λ ≠ 0
   Mat J = Mat::Zero(n, n);
   ASSERT_EQ(dae.Jacobian(t, cj, y.data(), yp.data(), J.data()), 0);
+  // The full matrix it assembles in is cleared entry by entry (its pattern's): a second
+  // evaluation at the same point gives the same matrix, not an accumulated one.
+  Mat J_again = Mat::Zero(n, n);
+  ASSERT_EQ(dae.Jacobian(t, cj, y.data(), yp.data(), J_again.data()), 0);
+  EXPECT_EQ((J_again - J).cwiseAbs().maxCoeff(), 0.0);
   auto residual = [&](const Vec& a, const Vec& ap) {
     Vec out(n);
     EXPECT_EQ(dae.Residual(t, a.data(), ap.data(), out.data()), 0);
