@@ -185,7 +185,6 @@ static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vecto
       // costs Newton iterations, never the solution, which the residual decides). IDA zeroes
       // the matrix before each call, its index arrays included (SUNMatZero_Sparse), so the
       // pattern's indices are written again with the values.
-      constexpr long kPatternCheckInterval = 64;
       double* D = impl->dense_scratch.data();
       rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), D);
       const SparsityPattern& p = impl->pattern;

@@ -64,6 +64,9 @@ const char* ToString(LinearSolverKind kind);
 /// chains), 0.53 at 40 (rigid slider-crank), 0.50 at 62 (Craig–Bampton rod, 8 modes), 0.3–0.5
 /// for full-FE rods of 64–280 unknowns. SUNDIALS' dense LU is unblocked, so KLU wins early.
 inline constexpr int kKluThreshold = 20;
+/// An iteration-matrix entry outside the sparsity pattern (a model bug) is looked for at the
+/// first Jacobian and every this many.
+inline constexpr long kPatternCheckInterval = 64;
 
 struct IntegratorOptions {
   double rel_tol{1e-6};              ///< relative tolerance [-], in (0, 1)

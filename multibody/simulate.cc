@@ -437,9 +437,8 @@ int MechanismDae::Jacobian(double t, double cj, const double* y, const double* y
   const int rc = AddJacobian(model_, data_, t, cj, y_full_.data(), yp_full_.data(),
                              jac_full_.data(), model_.size());
   prescribed_.MoveReducedMatrix(full_pattern_, jac_full_.data(), jac);
-  // An entry outside the pattern is neither moved nor cleared: a model bug, looked for at the
-  // first Jacobian and every kPatternCheckInterval-th (as IdaIntegrator checks the reduced one).
-  constexpr long kPatternCheckInterval = 64;
+  // An entry outside the pattern is neither moved nor cleared: a model bug, looked for as
+  // IdaIntegrator looks in the reduced matrix (kPatternCheckInterval).
   if (jacobians_++ % kPatternCheckInterval == 0) {
     for (Eigen::Index c = 0; c < jac_full_.cols(); ++c) {
       for (Eigen::Index r = 0; r < jac_full_.rows(); ++r) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <numbers>
 #include <vector>
@@ -83,61 +84,49 @@ void CheckGsl(int status, const char* what) {
 // jk = (j² + k² − (k − j)²)/2 and w_j = exp(iπ j²/n), X_k = w̄_k Σ_j (x_j w̄_j) w_(k−j), a
 // convolution, done cyclically over m >= 2n − 1 points by radix-2 FFTs.
 struct Chirp {
-  std::size_t m{0};
-  std::vector<double> w;   // w_j, j < n (interleaved re, im)
-  std::vector<double> bf;  // FFT of b: b_j = w_|j| for |j| < n, cyclic over m
-  std::vector<double> a;   // work: 2 m
+  using C = std::complex<double>;  // layout-compatible with GSL's packed complex arrays
+  std::size_t n{0}, m{1};
+  std::vector<C> w;   // w_j, j < n
+  std::vector<C> bf;  // FFT of b: b_j = w_|j| for |j| < n, cyclic over m
+  std::vector<C> a;   // work
 
-  explicit Chirp(std::size_t n) {
-    m = 1;
+  static void Fft(std::vector<C>* v, bool inverse) {
+    double* d = reinterpret_cast<double*>(v->data());
+    CheckGsl(inverse ? gsl_fft_complex_radix2_inverse(d, 1, v->size())
+                     : gsl_fft_complex_radix2_forward(d, 1, v->size()),
+             "gsl_fft_complex_radix2");
+  }
+
+  explicit Chirp(std::size_t num_samples) : n(num_samples), w(num_samples) {
     while (m < 2 * n - 1) m *= 2;
-    w.resize(2 * n);
     const auto two_n = static_cast<std::uint64_t>(2 * n);
     for (std::size_t j = 0; j < n; ++j) {
       // j² mod 2n keeps the angle exact for long records.
       const std::uint64_t r = (static_cast<std::uint64_t>(j) * j) % two_n;
-      const double phi = std::numbers::pi * static_cast<double>(r) / static_cast<double>(n);
-      w[2 * j] = std::cos(phi);
-      w[2 * j + 1] = std::sin(phi);
+      w[j] = std::polar(1.0, std::numbers::pi * static_cast<double>(r) / static_cast<double>(n));
     }
-    bf.assign(2 * m, 0.0);
-    for (std::size_t j = 0; j < n; ++j) {
-      bf[2 * j] = w[2 * j];
-      bf[2 * j + 1] = w[2 * j + 1];
-      if (j > 0) {
-        bf[2 * (m - j)] = w[2 * j];
-        bf[2 * (m - j) + 1] = w[2 * j + 1];
-      }
-    }
-    CheckGsl(gsl_fft_complex_radix2_forward(bf.data(), 1, m), "gsl_fft_complex_radix2_forward");
-    a.resize(2 * m);
+    bf.assign(m, 0.0);
+    for (std::size_t j = 0; j < n; ++j) bf[j] = bf[(m - j) % m] = w[j];
+    Fft(&bf, false);
+    a.resize(m);
   }
 
   // The DFT of the real x (n values) into GSL's half-complex layout (gsl_fft_real_transform's).
-  void Transform(const double* x, std::size_t n, double* halfcomplex) {
+  void Transform(const double* x, double* halfcomplex) {
     std::fill(a.begin(), a.end(), 0.0);
-    for (std::size_t j = 0; j < n; ++j) {  // x_j w̄_j
-      a[2 * j] = x[j] * w[2 * j];
-      a[2 * j + 1] = -x[j] * w[2 * j + 1];
-    }
-    CheckGsl(gsl_fft_complex_radix2_forward(a.data(), 1, m), "gsl_fft_complex_radix2_forward");
-    for (std::size_t k = 0; k < m; ++k) {
-      const double re = a[2 * k] * bf[2 * k] - a[2 * k + 1] * bf[2 * k + 1];
-      const double im = a[2 * k] * bf[2 * k + 1] + a[2 * k + 1] * bf[2 * k];
-      a[2 * k] = re;
-      a[2 * k + 1] = im;
-    }
-    CheckGsl(gsl_fft_complex_radix2_inverse(a.data(), 1, m), "gsl_fft_complex_radix2_inverse");
-    for (std::size_t k = 0; 2 * k <= n; ++k) {  // X_k = w̄_k c_k
-      const double re = a[2 * k] * w[2 * k] + a[2 * k + 1] * w[2 * k + 1];
-      const double im = a[2 * k + 1] * w[2 * k] - a[2 * k] * w[2 * k + 1];
+    for (std::size_t j = 0; j < n; ++j) a[j] = x[j] * std::conj(w[j]);
+    Fft(&a, false);
+    for (std::size_t k = 0; k < m; ++k) a[k] *= bf[k];
+    Fft(&a, true);
+    for (std::size_t k = 0; 2 * k <= n; ++k) {
+      const C X = std::conj(w[k]) * a[k];
       if (k == 0) {
-        halfcomplex[0] = re;
+        halfcomplex[0] = X.real();
       } else if (2 * k == n) {
-        halfcomplex[n - 1] = re;
+        halfcomplex[n - 1] = X.real();
       } else {
-        halfcomplex[2 * k - 1] = re;
-        halfcomplex[2 * k] = im;
+        halfcomplex[2 * k - 1] = X.real();
+        halfcomplex[2 * k] = X.imag();
       }
     }
   }
@@ -241,7 +230,7 @@ void SpectrumAnalyzer::Calc(std::span<const double> x, Spectrum* out) {
   }
   for (std::size_t j = 0; j < p.n; ++j) p.scratch[j] = p.weights[j] * x[j];
   if (p.chirp) {
-    p.chirp->Transform(p.scratch.data(), p.n, p.scratch.data());
+    p.chirp->Transform(p.scratch.data(), p.scratch.data());
   } else {
     CheckGsl(gsl_fft_real_transform(p.scratch.data(), 1, p.n, p.wavetable.get(), p.workspace.get()),
              "gsl_fft_real_transform");
