@@ -89,7 +89,7 @@ void AddBodyJacobian(const Mechanism& model, RunData* data, size_t bi, double cj
     // Quadrature: damping power q̇ᵀDq̇.
     J.block(QD + kDissipatedDamping, V + kFirstMode, 1, n) -= 2.0 * s.Dqd.transpose();
     if (b.geometric_stiffening) {
-      AddSecondOrderStrainJacobian(b, qd, &s);
+      AddSecondOrderStrainJacobian(b, q, qd, &s);
       J.block(R + kFirstMode, P + kFirstMode, n, n) += s.Jg;
       if (b.strain_damping) {
         J.block(R + kFirstMode, V + kFirstMode, n, n) += s.Jkv_qd;

@@ -18,56 +18,82 @@ namespace flexrod::multibody::dae_kernels {
 
 // ---- body level -------------------------------------------------------------------------------
 // The second-order axial strain (FlexibleBodySpec::geometric_stiffening). Element e's strain
-// times its length is δ_e + (P s)_e: its elongation δ = E q and the projection P = V Vᵀ of the
-// chords' shortenings s_e = ½ w_eᵀ K_G w_e on the elongation fields the basis carries, with
-// w_e = T_e q its nodes' (v, θ). Its force N_e = k (δ_e + (P s)_e), k = EA/L_e, and
-// F_g = Σ_e N_e T_eᵀ K_G w_e + k Eᵀ P s (the gradient of ½ k Σ_e (δ_e + (P s)_e)² less ½ qᵀKq's
-// axial part, which K q already has). The element loops touch only the 2 (n_e + 1) nodal rows
-// of T, each product with T or E is one matrix-vector product.
-void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
-  const double k = b.element_axial_stiffness;
-  const int ne = b.num_elements();
-  s->node_w.noalias() = b.transverse_rows * q;
-  for (int e = 0; e < ne; ++e) {
-    const auto w = s->node_w.segment<4>(2 * e);
-    auto kw = s->element_kgw.segment<4>(4 * e);
-    kw.noalias() = b.element_Kg * w;
-    s->element_short(e) = 0.5 * w.dot(kw);  // ½ ∫_e v'² dx [m]
+// times its length is (P (δ + s))_e: the projection P = V Vᵀ on the elongation fields the basis
+// carries of its elongation δ = E q and its chord's shortening s_e = ½ w_eᵀ K_G w_e = ½ qᵀ G_e q,
+// w_e = T_e q, G_e = T_eᵀ K_G T_e. In the fields' coordinates the strains are a = W q + σ,
+// W = Vᵀ E, σ = Vᵀ s (σ_k = ½ qᵀ H_k q, H_k = Σ_e V_ek G_e), the forces N = V c, c = k a,
+// k = EA/L_e, and F_g = Σ_k c_k H_k q + k Wᵀ σ: the gradient of ½ k |a|² less ½ qᵀKq's axial
+// part, which K q already has. The modal kernel forms the r vectors H_k q (r n² operations),
+// the element kernel sums over the elements (T q, K_G w_e, Tᵀ).
+
+// Views of the H_k: (n × n r) with column block k = H_k, so that [H_k x] = viewᵀ x (H_k is
+// symmetric); Body::strain_tensors (n² × r) is the same storage.
+Eigen::Map<const Mat> StrainTensors(const Body& b) {
+  return {b.strain_tensors.data(), b.num_modes, b.strain_tensors.size() / b.num_modes};
+}
+
+// [H_k x] (n × r) into h.
+void StrainTensorProducts(const Body& b, const CMap& x, Mat* h) {
+  Eigen::Map<Vec>(h->data(), h->size()).noalias() = StrainTensors(b).transpose() * x;
+}
+
+// out += Σ_k y_k H_k q for strain forces y (r): the modal kernel's [H_k q] y, or the
+// elements' Tᵀ Σ_e (V y)_e K_G w_e (needs UpdateSecondOrderStrain at q).
+void AddStrainGradient(const Body& b, const Vec& y, BodyScratch* s, Vec* out) {
+  if (b.modal_strain_kernel) {
+    out->noalias() += s->strain_h * y;
+    return;
   }
-  s->strain_coef.noalias() = b.element_strain_basis.transpose() * s->element_short;
-  s->projected_short.noalias() = b.element_strain_basis * s->strain_coef;
-  s->element_force.noalias() = b.elongation_rows * q;
-  s->element_force = k * (s->element_force + s->projected_short);
+  s->element_force.noalias() = b.element_strain_basis * y;
   s->node_force.setZero();
-  for (int e = 0; e < ne; ++e) {
+  for (int e = 0; e < b.num_strain_elements; ++e) {
     s->node_force.segment<4>(2 * e) += s->element_force(e) * s->element_kgw.segment<4>(4 * e);
   }
-  s->Fg.noalias() = b.transverse_rows.transpose() * s->node_force;
-  s->Fg.noalias() += k * (b.elongation_rows.transpose() * s->projected_short);
+  out->noalias() += b.transverse_rows.transpose() * s->node_force;
+}
+
+void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
+  const double k = b.element_axial_stiffness;
+  if (b.modal_strain_kernel) {
+    StrainTensorProducts(b, q, &s->strain_h);
+    s->strain_coef.noalias() = 0.5 * (s->strain_h.transpose() * q);
+  } else {
+    s->node_w.noalias() = b.transverse_rows * q;
+    for (int e = 0; e < b.num_strain_elements; ++e) {
+      const auto w = s->node_w.segment<4>(2 * e);
+      auto kw = s->element_kgw.segment<4>(4 * e);
+      kw.noalias() = b.element_Kg * w;
+      s->element_short(e) = 0.5 * w.dot(kw);  // ½ ∫_e v'² dx [m]
+    }
+    s->strain_coef.noalias() = b.element_strain_basis.transpose() * s->element_short;
+  }
+  s->strain_force.noalias() = b.strain_elongation * q;
+  s->strain_force = k * (s->strain_force + s->strain_coef);
+  s->Fg.noalias() = k * (b.strain_elongation.transpose() * s->strain_coef);
+  AddStrainGradient(b, s->strain_force, s, &s->Fg);
 }
 
 // Damping of the second-order strains (Body::strain_damping): D acts on the rates of the
-// strain-consistent coordinates q̃ = q + B s(q), whose elongations are the strains, E q̃ = δ + P s,
-// so the bent rod's shortening motion, which strains nothing, is not damped. With v = q̇ + B ṡ,
-// ṡ_e = (K_G w_e)ᵀ ẇ_e, the force is (I + B ∂s/∂q)ᵀ D v = g + Σ_e T_eᵀ K_G w_e h_e, g = D v,
-// h = Bᵀ g; with D = β K it is Kelvin–Voigt on the strains. Needs UpdateSecondOrderStrain's
-// K_G w_e.
+// strain-consistent coordinates q̃ = q + B σ(q), B = E⁺ V, whose elongations are the strains,
+// E q̃ = V a, so the bent rod's shortening motion, which strains nothing, is not damped. With
+// v = q̇ + B ρ, ρ = σ̇ = [H_k q]ᵀ q̇, the force is (I + B ∂σ/∂q)ᵀ D v = g + Σ_k η_k H_k q, g = D v,
+// η = Bᵀ g; with D = β K it is Kelvin–Voigt on the strains. Needs UpdateSecondOrderStrain's.
 void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
-  const int ne = b.num_elements();
-  s->node_wd.noalias() = b.transverse_rows * qd;
-  for (int e = 0; e < ne; ++e) {
-    s->element_short_rate(e) = s->element_kgw.segment<4>(4 * e).dot(s->node_wd.segment<4>(2 * e));
+  if (b.modal_strain_kernel) {
+    s->strain_rate.noalias() = s->strain_h.transpose() * qd;
+  } else {
+    s->node_wd.noalias() = b.transverse_rows * qd;
+    for (int e = 0; e < b.num_strain_elements; ++e) {
+      s->element_short_rate(e) = s->element_kgw.segment<4>(4 * e).dot(s->node_wd.segment<4>(2 * e));
+    }
+    s->strain_rate.noalias() = b.element_strain_basis.transpose() * s->element_short_rate;
   }
   s->strain_velocity = qd;
-  s->strain_velocity.noalias() += b.shortening_to_q * s->element_short_rate;
+  s->strain_velocity.noalias() += b.strain_to_q * s->strain_rate;
   s->damping_g.noalias() = b.D * s->strain_velocity;
-  s->damping_h.noalias() = b.shortening_to_q.transpose() * s->damping_g;
-  s->node_damping.setZero();
-  for (int e = 0; e < ne; ++e) {
-    s->node_damping.segment<4>(2 * e) += s->damping_h(e) * s->element_kgw.segment<4>(4 * e);
-  }
+  s->damping_eta.noalias() = b.strain_to_q.transpose() * s->damping_g;
   s->Dqd = s->damping_g;
-  s->Dqd.noalias() += b.transverse_rows.transpose() * s->node_damping;
+  AddStrainGradient(b, s->damping_eta, s, &s->Dqd);
 }
 
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
@@ -105,51 +131,39 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   s->Sqd.noalias() = b.Stilde * qd;
 }
 
-// Σ_e c_e T_eᵀ K_G T_e (n × n) as one product with the elements' T_eᵀ K_G T_e
-// (Body::element_kg_products).
-void AddWeightedKg(const Body& b, const Vec& c, Mat* out) {
-  Eigen::Map<Vec>(out->data(), out->size()).noalias() += b.element_kg_products * c;
-}
-
-// With S = ∂s/∂q (rows (K_G w_e)ᵀ T_e), Ṡ (rows (K_G ẇ_e)ᵀ T_e) and H = Sᵀ V:
-//   ∂F_g/∂q = Σ_e N_e T_eᵀ K_G T_e + k (Sᵀ E + Eᵀ S) + k H Hᵀ;
-// and with strain damping, C = I + B S:
-//   ∂F_d/∂q̇ = Cᵀ D C,  ∂F_d/∂q = Cᵀ D B Ṡ + Σ_e h_e T_eᵀ K_G T_e.
-// The two sums over the elements are one (N + h weights), and q̇ᵀ Σ_e c_e T_eᵀ K_G T_e = cᵀ Ṡ
-// gives the power rows without them.
-void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s) {
+// With Hq = [H_k q], Hv = [H_k q̇] (n × r):
+//   ∂F_g/∂q = Σ_k c_k H_k + k (Hq W + Wᵀ Hqᵀ + Hq Hqᵀ);
+// and with strain damping, C = ∂v/∂q̇ = I + B Hqᵀ:
+//   ∂F_d/∂q̇ = Cᵀ D C,  ∂F_d/∂q = Cᵀ D B Hvᵀ + Σ_k η_k H_k.
+// The two weighted sums of the H_k are one (weights c + η), and q̇ᵀ Σ_k c_k H_k = (Hv c)ᵀ gives
+// the power rows without them.
+void AddSecondOrderStrainJacobian(const Body& b, const CMap& q, const CMap& qd, BodyScratch* s) {
   const double k = b.element_axial_stiffness;
-  const int ne = b.num_elements();
-  // T q̇: UpdateStrainDamping's, or computed here.
-  if (!b.strain_damping) s->node_wd.noalias() = b.transverse_rows * qd;
-  for (int e = 0; e < ne; ++e) {
-    const auto Te = b.transverse_rows.middleRows<4>(2 * e);
-    s->short_jac.row(e).noalias() = s->element_kgw.segment<4>(4 * e).transpose() * Te;
-    const Eigen::Vector4d kwd = b.element_Kg * s->node_wd.segment<4>(2 * e);
-    s->short_rate_jac.row(e).noalias() = kwd.transpose() * Te;
-  }
-  s->dmap.noalias() = k * (s->short_jac.transpose() * b.elongation_rows);  // k Sᵀ E
+  const int n = b.num_modes;
+  if (!b.modal_strain_kernel) StrainTensorProducts(b, q, &s->strain_h);
+  StrainTensorProducts(b, qd, &s->strain_hd);
+  s->dmap.noalias() = k * (s->strain_h * b.strain_elongation);  // k Hq W
   s->Jg = s->dmap + s->dmap.transpose();
-  s->H.noalias() = s->short_jac.transpose() * b.element_strain_basis;
-  s->Jg.noalias() += k * (s->H * s->H.transpose());
+  s->Jg.noalias() += k * (s->strain_h * s->strain_h.transpose());
   s->stiffening_row.noalias() = qd.transpose() * s->Jg;
-  s->stiffening_row.noalias() += s->element_force.transpose() * s->short_rate_jac;
-  s->kg_weights = s->element_force;
+  s->stiffening_row.noalias() += s->strain_force.transpose() * s->strain_hd.transpose();
+  s->kg_weights = s->strain_force;
   if (b.strain_damping) {
     s->strain_map.setIdentity();
-    s->strain_map.noalias() += b.shortening_to_q * s->short_jac;
+    s->strain_map.noalias() += b.strain_to_q * s->strain_h.transpose();
     s->dmap.noalias() = b.D * s->strain_map;
     s->Jkv_qd.noalias() = s->strain_map.transpose() * s->dmap;
     s->Jkv_qd -= b.D;  // the residual's velocity block already has D
-    s->bsd.noalias() = b.shortening_to_q * s->short_rate_jac;
+    s->bsd.noalias() = b.strain_to_q * s->strain_hd.transpose();
     s->dmap.noalias() = b.D * s->bsd;
     s->Jkv_q.noalias() = s->strain_map.transpose() * s->dmap;
     s->damping_row.noalias() = qd.transpose() * s->Jkv_q;
-    s->damping_row.noalias() += s->damping_h.transpose() * s->short_rate_jac;
+    s->damping_row.noalias() += s->damping_eta.transpose() * s->strain_hd.transpose();
     s->Jg += s->Jkv_q;
-    s->kg_weights += s->damping_h;
+    s->kg_weights += s->damping_eta;
   }
-  AddWeightedKg(b, s->kg_weights, &s->Jg);
+  Eigen::Map<Vec>(s->Jg.data(), static_cast<Eigen::Index>(n) * n).noalias() +=
+      b.strain_tensors * s->kg_weights;
 }
 
 // M(θ, q), ffrf-planar.md "Mass matrix".

@@ -25,10 +25,10 @@ inline const double kFdStep = std::cbrt(std::numeric_limits<double>::epsilon());
 void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s,
                 bool dynamics = true);
 
-// The second-order strain's Jacobian pieces at q̇ (after UpdateBody): BodyScratch::Jg =
+// The second-order strain's Jacobian pieces at (q, q̇) (after UpdateBody): BodyScratch::Jg =
 // ∂(F_g + F_d)/∂q, Jkv_qd = ∂F_d/∂q̇ − D, and the power rows q̇ᵀ ∂F_g/∂q (stiffening_row) and
 // q̇ᵀ ∂F_d/∂q (damping_row); F_d, Jkv_qd and damping_row with strain damping only.
-void AddSecondOrderStrainJacobian(const Body& b, const CMap& qd, BodyScratch* s);
+void AddSecondOrderStrainJacobian(const Body& b, const CMap& q, const CMap& qd, BodyScratch* s);
 
 // M(θ, q), ffrf-planar.md "Mass matrix".
 void FillMassMatrix(const Body& b, const BodyScratch& s, const double* pb, Mat* M);

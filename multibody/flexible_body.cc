@@ -74,17 +74,19 @@ void CheckFlexibleBodySpec(const FlexibleBodySpec& spec) {
 }
 
 /// The second-order axial strain's data (FlexibleBodySpec::geometric_stiffening).
-void SetSecondOrderStrain(const fem::ReducedRod& rod, Body* b) {
+void SetSecondOrderStrain(const fem::ReducedRod& rod, FlexibleBodySpec::StrainKernel kernel,
+                          Body* b) {
   const int n = rod.num_coordinates();
   // Element e joins nodes e and e + 1 (dofs u, v, θ each): its elongation is a difference of
   // u rows, its K_G acts on the (v, θ) rows of its two nodes, shared with its neighbours.
   const int ne = rod.rod.num_elements;
   constexpr std::array<int, 4> kTransverse = {1, 2, 4, 5};
+  b->num_strain_elements = ne;
   b->transverse_rows.resize(2 * (ne + 1), n);
-  b->elongation_rows.resize(ne, n);
+  Mat E(ne, n);
   for (int e = 0; e < ne; ++e) {
     const auto rows = rod.ElementBasisRows(e);
-    b->elongation_rows.row(e) = rows.row(3) - rows.row(0);
+    E.row(e) = rows.row(3) - rows.row(0);
     b->transverse_rows.middleRows(2 * e, 2) = rows.middleRows(1, 2);
     if (e == ne - 1) b->transverse_rows.middleRows(2 * e + 2, 2) = rows.middleRows(4, 2);
   }
@@ -95,15 +97,21 @@ void SetSecondOrderStrain(const fem::ReducedRod& rod, Body* b) {
                                    rod.element_Kg(kTransverse[j], kTransverse[i]));
     }
   }
-  b->element_kg_products.resize(static_cast<Eigen::Index>(n) * n, ne);
+  const fem::ElongationSpace space = rod.Elongation();
+  const Mat& V = space.basis;
+  const int r = static_cast<int>(V.cols());
+  b->element_strain_basis = V;
+  b->strain_elongation = V.transpose() * E;
+  b->strain_to_q = space.shortening_to_q * V;
+  b->strain_tensors = Mat::Zero(static_cast<Eigen::Index>(n) * n, r);
   for (int e = 0; e < ne; ++e) {
     const auto Te = b->transverse_rows.middleRows<4>(2 * e);
     const Mat G = Te.transpose() * b->element_Kg * Te;
-    b->element_kg_products.col(e) = Eigen::Map<const Vec>(G.data(), G.size());
+    b->strain_tensors.noalias() += Eigen::Map<const Vec>(G.data(), G.size()) * V.row(e);
   }
-  const fem::ElongationSpace space = rod.Elongation();
-  b->element_strain_basis = space.basis;
-  b->shortening_to_q = space.shortening_to_q;
+  using Kernel = FlexibleBodySpec::StrainKernel;
+  b->modal_strain_kernel =
+      kernel == Kernel::kModal || (kernel == Kernel::kAuto && r * n <= 8 * (ne + 1));
 }
 
 /// D from the damping specification, and the body's own modal frequencies and damping ratios
@@ -257,7 +265,7 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   b.K = 0.5 * (rod.K + rod.K.transpose());
   b.geometric_stiffening = spec.geometric_stiffening && n > 0;
   b.element_Kg.setZero();
-  if (b.geometric_stiffening) SetSecondOrderStrain(rod, &b);
+  if (b.geometric_stiffening) SetSecondOrderStrain(rod, spec.strain_kernel, &b);
   b.damping = spec.damping;
   b.rod = spec.rod;
 

@@ -111,9 +111,10 @@ struct FlexibleBodySpec {
   DampingSpec damping;
   /// Second-order (von Kármán) axial strain. Element e (dofs w_e = Φ_e q) stretches by
   /// δ_e = u_b − u_a and its bending shortens its chord by s_e = ½ w_eᵀ K_G w_e = ½ ∫_e v'² dx;
-  /// its axial force is N_e = EA/L_e (δ_e + (P s)_e) and the strain energy Σ_e L_e N_e²/(2 EA).
+  /// its axial force is N_e = EA/L_e (P (δ + s))_e and the strain energy Σ_e L_e N_e²/(2 EA).
   /// P projects the shortening field s on the elongation fields the basis can carry (the span
-  /// of δ(q), energy-orthogonal; P = I for the full FE rod). The part it removes would be
+  /// of δ(q), energy-orthogonal; P = I for the full FE rod; P δ = δ up to the singular values
+  /// ReducedRod::Elongation drops, below 1e-9 of the largest). The part it removes would be
   /// relieved, at no energy, by axial freedom the reduced basis lacks; keeping it would lock
   /// the reduced rod (an 8-mode Craig–Bampton rod bent 3 mm is then 12 % too stiff). The sum of
   /// s, the approach of the rod's ends, is kept: uniform stretching is always in the span.
@@ -125,6 +126,10 @@ struct FlexibleBodySpec {
   /// Rayleigh β it is Kelvin–Voigt on them). The force's work is book-kept in the energy balance
   /// (Quadrature::kStiffeningWork).
   bool geometric_stiffening{true};
+  /// How the residual evaluates the second-order strain: the same force either way (tests pin
+  /// each to compare them); kAuto takes the cheaper (Body::modal_strain_kernel).
+  enum class StrainKernel { kAuto, kModal, kElements };
+  StrainKernel strain_kernel{StrainKernel::kAuto};
 };
 
 struct PrismaticSpec {
@@ -177,22 +182,29 @@ struct Body {
   Mat K;  ///< n×n
   bool geometric_stiffening{false};
   // The second-order axial strain (geometric stiffening only). Element e joins nodes e and
-  // e + 1; its transverse dofs w_e = (v_e, θ_e, v_e+1, θ_e+1) = T_e q, T_e rows 2e … 2e + 3 of T.
-  Mat transverse_rows;  ///< T: the (v, θ) rows of Φ at every node (2 (num_elements + 1) × n)
-  Mat elongation_rows;  ///< E: elongations δ = E q (num_elements × n) [m]
-  double element_axial_stiffness{0.0};  ///< E A / L_e [N/m]
-  Eigen::Matrix4d element_Kg;           ///< K_G on w_e per newton of tension [1/m]
-  /// Column e: T_eᵀ K_G T_e (n × n, column-major) [1/m] (n² × num_elements), so that
-  /// Σ_e c_e T_eᵀ K_G T_e is one matrix-vector product.
-  Mat element_kg_products;
-  /// V (num_elements × r), orthonormal columns spanning the elongation fields δ(q): P = V Vᵀ.
+  // e + 1; its transverse dofs w_e = (v_e, θ_e, v_e+1, θ_e+1) = T_e q, T_e rows 2e … 2e + 3 of T,
+  // and G_e = T_eᵀ K_G T_e. The strains live in the r elongation fields V the basis carries
+  // (P = V Vᵀ): their modal coordinates are a = W q + σ, σ_k = ½ qᵀ H_k q, and the elements'
+  // axial forces N = k V a (dae_kernels.cc UpdateSecondOrderStrain).
+  int num_strain_elements{0};           ///< n_e
+  double element_axial_stiffness{0.0};  ///< k = E A / L_e [N/m]
+  Mat transverse_rows;         ///< T: the (v, θ) rows of Φ at every node (2 (n_e + 1) × n)
+  Eigen::Matrix4d element_Kg;  ///< K_G on w_e per newton of tension [1/m]
+  /// V (n_e × r), orthonormal columns spanning the elongation fields δ(q) = E q: P = V Vᵀ.
   Mat element_strain_basis;
-  /// B = E⁺ P (n × num_elements), E = ∂δ/∂q: q̃ = q + B s(q) has the strains as elongations.
-  Mat shortening_to_q;
+  /// Column k: H_k = Σ_e V_ek G_e (n × n, column-major) [1/m] (n² × r), so that a weighted sum
+  /// Σ_k c_k H_k is one matrix-vector product.
+  Mat strain_tensors;
+  Mat strain_elongation;  ///< W = Vᵀ E (r × n): the strain coordinates' linear part [m]
+  /// B = E⁺ V (n × r): q̃ = q + B σ(q) has the strains as elongations, E q̃ = V a.
+  Mat strain_to_q;
+  /// The residual's kernel: H_k q as n × n products (r n² operations), or from the elements
+  /// (T q, n_e K_G w_e, Tᵀ: ~8 (n_e + 1) n), whichever is cheaper (the same force; the full-FE
+  /// rod, r = n_e, takes the elements). FlexibleBodySpec::strain_kernel.
+  bool modal_strain_kernel{true};
   /// D acts on q̃̇, not on q̇ (geometric stiffening with damping): the shortening of the bent
   /// rod, which strains nothing, is not damped.
   bool strain_damping{false};
-  int num_elements() const { return static_cast<int>(elongation_rows.rows()); }
   Mat D;  ///< n×n damping
   DampingSpec damping;
   Vec modal_frequencies_hz;  ///< eigenfrequencies of (K, M_ff) [Hz] (empty if rigid)

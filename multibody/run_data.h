@@ -25,37 +25,39 @@ struct BodyScratch {
   Vec c;                   ///< Ī + S̃ q (n) [kg m]
   Vec Kq;                  ///< K q + F_g(q) (n) [N]
   Vec Fg;                  ///< F_g(q), the geometric-stiffness force (n) [N]
-  // The second-order axial strain (Body::geometric_stiffening; dae.cc UpdateSecondOrderStrain).
-  Vec node_w;           ///< T q: (v, θ) of every node (2 (num_elements + 1)) [m, rad]
-  Vec element_kgw;      ///< K_G w_e stacked (4 num_elements) [-]
-  Vec element_short;    ///< s_e = ½ w_eᵀ K_G w_e (num_elements) [m]
-  Vec projected_short;  ///< P s (num_elements) [m]
-  Vec strain_coef;      ///< Vᵀ s (r) [m]
-  Vec element_force;    ///< N_e = k (δ_e + (P s)_e) (num_elements) [N]
-  Vec node_force;       ///< Σ_e N_e K_G w_e on the nodes' (v, θ) (2 (num_elements + 1)) [N]
-  Mat short_jac;        ///< S = ∂s/∂q (num_elements × n), Jacobian only
-  Mat H;                ///< Sᵀ V (n × r), Jacobian only
-  Mat Jg;               ///< ∂(F_g + F_d)/∂q (n × n), Jacobian only
-  Vec kg_weights;  ///< N_e + h_e, the weights of Σ_e T_eᵀ K_G T_e (num_elements) [N], Jacobian only
-  RowVec stiffening_row;  ///< q̇ᵀ ∂F_g/∂q (1 × n) [N/s], Jacobian only
+  // The second-order axial strain (Body::geometric_stiffening; dae_kernels.cc
+  // UpdateSecondOrderStrain): strain coordinates σ, a and their forces c, r of them.
+  Mat strain_h;      ///< [H_k q] (n × r) [m]: the residual's (modal kernel) or the Jacobian's
+  Vec strain_coef;   ///< σ = Vᵀ s, σ_k = ½ qᵀ H_k q (r) [m]
+  Vec strain_force;  ///< c = k (W q + σ): the elements' axial forces are N = V c (r) [N]
+  // The element kernel (Body::modal_strain_kernel false).
+  Vec node_w;              ///< T q: (v, θ) of every node (2 (n_e + 1)) [m, rad]
+  Vec element_kgw;         ///< K_G w_e stacked (4 n_e) [-]
+  Vec element_short;       ///< s_e = ½ w_eᵀ K_G w_e (n_e) [m]
+  Vec element_force;       ///< V c (or V η for the damping) (n_e) [N]
+  Vec node_force;          ///< Σ_e element_force_e K_G w_e on the nodes' (v, θ) (2 (n_e + 1)) [N]
+  Vec node_wd;             ///< T q̇ (2 (n_e + 1)) [m/s, rad/s]
+  Vec element_short_rate;  ///< ṡ_e (n_e) [m/s]
   // Damping of the second-order strains (Body::strain_damping).
-  Vec node_wd;             ///< T q̇ (2 (num_elements + 1)) [m/s, rad/s]
-  Vec element_short_rate;  ///< ṡ_e (num_elements) [m/s]
-  Vec strain_velocity;     ///< v = q̇ + B ṡ (n)
-  Vec damping_g;           ///< D v (n) [N]
-  Vec damping_h;           ///< Bᵀ D v (num_elements) [N]
-  Vec node_damping;        ///< Σ_e h_e K_G w_e on the nodes' (v, θ) (2 (num_elements + 1)) [N]
-  Mat short_rate_jac;      ///< Ṡ = ∂ṡ/∂q (num_elements × n), Jacobian only
-  Mat strain_map;          ///< C = I + B S (n × n), Jacobian only
-  Mat dmap, bsd;           ///< n × n work, Jacobian only
-  Mat Jkv_q, Jkv_qd;       ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n), Jacobian only
-  RowVec damping_row;      ///< q̇ᵀ ∂F_d/∂q (1 × n) [N/s], Jacobian only
-  Vec Dqd;                 ///< D q̇ (n) [N]
-  Vec Sqd;                 ///< S̃ q̇ (n)
-  Mat M;                   ///< mass matrix (nb × nb)
-  Vec Qv;                  ///< quadratic-velocity vector (nb)
-  Vec tmp;                 ///< nb
-  Mat2X AS;                ///< A S̄ (2×n), Jacobian only
+  Vec strain_rate;      ///< ρ = σ̇ = [H_k q]ᵀ q̇ (r) [m/s]
+  Vec strain_velocity;  ///< v = q̇ + B ρ (n)
+  Vec damping_g;        ///< D v (n) [N]
+  Vec damping_eta;      ///< η = Bᵀ D v (r) [N]
+  // Jacobian only.
+  Mat strain_hd;          ///< [H_k q̇] (n × r) [m/s]
+  Vec kg_weights;         ///< c + η, the weights of Σ_k H_k (r) [N]
+  Mat Jg;                 ///< ∂(F_g + F_d)/∂q (n × n)
+  RowVec stiffening_row;  ///< q̇ᵀ ∂F_g/∂q (1 × n) [N/s]
+  Mat strain_map;         ///< C = I + B [H_k q]ᵀ (n × n)
+  Mat dmap, bsd;          ///< n × n work
+  Mat Jkv_q, Jkv_qd;      ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n)
+  RowVec damping_row;     ///< q̇ᵀ ∂F_d/∂q (1 × n) [N/s]
+  Vec Dqd;                ///< D q̇ (n) [N]
+  Vec Sqd;                ///< S̃ q̇ (n)
+  Mat M;                  ///< mass matrix (nb × nb)
+  Vec Qv;                 ///< quadratic-velocity vector (nb)
+  Vec tmp;                ///< nb
+  Mat2X AS;               ///< A S̄ (2×n), Jacobian only
 };
 
 /// World kinematics of a marker at the current state plus its Jacobian pieces.

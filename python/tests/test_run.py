@@ -207,7 +207,7 @@ def test_gil_is_released_while_a_run_computes():
     counter.start()
     try:
         start = time.monotonic()
-        flexrod.run("flexible-rig", set={**LONG, "sim.capture": "8 s"})
+        flexrod.run("flexible-rig", set={**LONG, "sim.capture": "30 s"})
         end = time.monotonic()
     finally:
         done.set()

@@ -82,9 +82,12 @@ Mismatch Compare(const Mat& J, const Mat& Jfd) {
   return w;
 }
 
+using Kernel = FlexibleBodySpec::StrainKernel;
+
 void ExpectJacobianMatches(double cj, unsigned seed,
-                           DampingSpec damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3})) {
-  auto c = BuildComposite(true, damping);
+                           DampingSpec damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3}),
+                           Kernel kernel = Kernel::kAuto) {
+  auto c = BuildComposite(true, damping, kernel);
   const Mechanism& m = c.model;
   RunData data(m);
   Vec y, yp;
@@ -123,6 +126,36 @@ TEST(DaeJacobian, MatchesFiniteDifferencesWithKelvinVoigtDamping) {
 TEST(DaeJacobian, MatchesFiniteDifferencesWithoutDamping) {
   ExpectJacobianMatches(0.0, 6, DampingSpec::None());
   ExpectJacobianMatches(25.0, 7, DampingSpec::None());
+}
+
+// The element kernel of the second-order strain (the full-FE rod's) against the same finite
+// differences: the Jacobian is the modal one for both, the residual is not.
+TEST(DaeJacobian, MatchesFiniteDifferencesWithTheElementStrainKernel) {
+  ExpectJacobianMatches(0.0, 8, DampingSpec::Rayleigh(3.0, 2e-3), Kernel::kElements);
+  ExpectJacobianMatches(25.0, 9, DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3}),
+                        Kernel::kElements);
+}
+
+// The two kernels compute the same residual by different sums (the modal tensors H_k q against
+// T q, the elements' K_G w_e and Tᵀ): equal to round-off at a random state, with the damping of
+// the strains, and both differ from the residual without the second-order strain.
+TEST(DaeResidual, ModalAndElementStrainKernelsAgree) {
+  const DampingSpec damping = DampingSpec::Rayleigh(3.0, 2e-3);
+  auto modal = BuildComposite(true, damping, Kernel::kModal);
+  auto elements = BuildComposite(true, damping, Kernel::kElements);
+  auto linear = BuildComposite(false, damping);
+  ASSERT_TRUE(modal.model.bodies()[1].modal_strain_kernel);
+  ASSERT_FALSE(elements.model.bodies()[1].modal_strain_kernel);
+  Vec y, yp;
+  RandomState(modal.model, 10, &y, &yp);
+  auto residual = [&](const Mechanism& m) {
+    RunData data(m);
+    return CalcResidual(m, &data, 0.3, y, yp);
+  };
+  const Vec rm = residual(modal.model), re = residual(elements.model);
+  const Vec rl = residual(linear.model);
+  EXPECT_LE((rm - re).lpNorm<Eigen::Infinity>(), 1e-12 * rm.lpNorm<Eigen::Infinity>());
+  EXPECT_GT((rm - rl).lpNorm<Eigen::Infinity>(), 1e-3 * rm.lpNorm<Eigen::Infinity>());
 }
 
 // Negative control: the comparison does catch a Jacobian that is wrong by 1e-4 in one
@@ -184,21 +217,24 @@ long HeapAllocationsDuring(F f) {
   return calls;
 }
 
+// With either strain kernel (with strain damping).
 TEST(DaeResidual, OneEvaluationDoesNotAllocate) {
-  auto c = BuildComposite();
-  const Mechanism& m = c.model;
-  RunData data(m);
-  Vec y, yp;
-  RandomState(m, 4, &y, &yp);
-  Vec r(m.size());
-  ASSERT_EQ(CalcResidual(m, &data, 0.1, y.data(), yp.data(), r.data()), 0);  // warm-up
-  int rc = -1;
-  EXPECT_EQ(HeapAllocationsDuring(
-                [&] { rc = CalcResidual(m, &data, 0.2, y.data(), yp.data(), r.data()); }),
-            0)
-      << "heap allocations during one residual evaluation";
-  EXPECT_EQ(rc, 0);
-  EXPECT_TRUE(r.allFinite());
+  for (Kernel kernel : {Kernel::kModal, Kernel::kElements}) {
+    auto c = BuildComposite(true, DampingSpec::Rayleigh(0.0, 2e-5), kernel);
+    const Mechanism& m = c.model;
+    RunData data(m);
+    Vec y, yp;
+    RandomState(m, 4, &y, &yp);
+    Vec r(m.size());
+    ASSERT_EQ(CalcResidual(m, &data, 0.1, y.data(), yp.data(), r.data()), 0);  // warm-up
+    int rc = -1;
+    EXPECT_EQ(HeapAllocationsDuring(
+                  [&] { rc = CalcResidual(m, &data, 0.2, y.data(), yp.data(), r.data()); }),
+              0)
+        << "heap allocations during one residual evaluation";
+    EXPECT_EQ(rc, 0);
+    EXPECT_TRUE(r.allFinite());
+  }
 }
 
 // The Jacobian too, with the second-order strain and its Kelvin–Voigt damping (Rayleigh β):

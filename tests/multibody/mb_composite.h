@@ -72,9 +72,10 @@ struct CompositeModel {
 
 /// The composite with the rod's damping given (default: modal ratios); Rayleigh damping with
 /// β > 0 and the geometric stiffening adds the Kelvin–Voigt damping of the second-order strains.
-inline CompositeModel BuildComposite(bool stiffening = true,
-                                     DampingSpec damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1,
-                                                                                    0.3})) {
+/// The rod (n = 4, 3 elements, 3 elongation fields) takes the modal strain kernel unless told.
+inline CompositeModel BuildComposite(
+    bool stiffening = true, DampingSpec damping = DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3}),
+    FlexibleBodySpec::StrainKernel kernel = FlexibleBodySpec::StrainKernel::kAuto) {
   CompositeModel out;
   out.rod = MakeSyntheticRod(4, 12, 7);
   MechanismBuilder b;
@@ -84,6 +85,7 @@ inline CompositeModel BuildComposite(bool stiffening = true,
   fs.rod = out.rod;
   fs.damping = damping;
   fs.geometric_stiffening = stiffening;
+  fs.strain_kernel = kernel;
   const BodyId rod = b.AddFlexibleBody(fs);
   const BodyId slider = b.AddRigidBody({"slider", 0.4, 1e-4, Vec2(0.0, 0.0)});
   const BodyId welded = b.AddRigidBody({"welded", 0.1, 3e-5, Vec2(0.01, -0.004)});
