@@ -421,6 +421,12 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
     dense_scratch.assign(static_cast<size_t>(n) * n, 0.0);
     A = CheckPointer(SUNSparseMatrix(n, n, pattern.nnz(), CSC_MAT, ctx), "SUNSparseMatrix");
     inner = CheckPointer(SUNLinSol_KLU(y, A, ctx), "SUNLinSol_KLU");
+    // AMD on the whole matrix, not SUNDIALS' default COLAMD on each block of a block
+    // triangular form: the mechanism's iteration matrix is one large block and a few
+    // singletons, and the main job's factors then take about half the operations
+    // (klu_flops 43 500 -> 14 200 with the geometric stiffening, 36 600 -> 14 100 without).
+    CheckFlag(SUNLinSol_KLUSetOrdering(inner, 0), "SUNLinSol_KLUSetOrdering");
+    SUNLinSol_KLUGetCommon(inner)->btf = 0;
   } else {
     A = CheckPointer(SUNDenseMatrix(n, n, ctx), "SUNDenseMatrix");
     inner = CheckPointer(SUNLinSol_Dense(y, A, ctx), "SUNLinSol_Dense");
