@@ -80,32 +80,56 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
   if (!(rises && falls) && !(fm > std::max(fa, fb))) {
     return {a, -std::numeric_limits<double>::infinity()};
   }
-  LocatedMaximum best{m, fm};
-  double lo = a, hi = b;
-  // Golden-section search over the step (f is unimodal there: a peak of a smooth pulse).
-  const double r = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = f(x1), f2 = f(x2);
+  // Brent's method (R. P. Brent, Algorithms for Minimization without Derivatives, 1973, ch. 5)
+  // on −f: a parabola through the three best points x (best), w (second), v (third) gives the
+  // next point when it falls inside the bracket and moves less than half the step before last;
+  // otherwise a golden-section step into the larger part. A smooth peak then takes a handful of
+  // parabolic steps where golden section alone took ~45 evaluations to the same bracket.
   // To 1e-9 of the step, or the resolution of t itself (a step can be a few ulp of t long).
   const double resolution =
       std::max(1e-9 * width, 8.0 * std::numeric_limits<double>::epsilon() * std::abs(b));
-  for (int it = 0; it < 64 && hi - lo > resolution; ++it) {
-    if (f1 < f2) {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + r * (hi - lo);
-      f2 = f(x2);
+  const double golden = 0.5 * (3.0 - std::sqrt(5.0));
+  double lo = a, hi = b;
+  double x = m, w = m, v = m, fx = fm, fw = fm, fv = fm;
+  double step = 0.0, step_before_last = 0.0;
+  for (int it = 0; it < 64; ++it) {
+    const double mid = 0.5 * (lo + hi), tol = 0.5 * resolution;
+    if (std::abs(x - mid) <= 2.0 * tol - 0.5 * (hi - lo)) break;  // bracket within resolution
+    bool parabolic = false;
+    if (std::abs(step_before_last) > tol) {
+      // Vertex of the parabola through (x, fx), (w, fw), (v, fv): x + p / q.
+      const double r = (x - w) * (fv - fx), s = (x - v) * (fw - fx);
+      double p = (x - v) * s - (x - w) * r, q = 2.0 * (s - r);
+      if (q > 0.0) p = -p;
+      q = std::abs(q);
+      if (std::abs(p) < std::abs(0.5 * q * step_before_last) && p > q * (lo - x) &&
+          p < q * (hi - x)) {
+        step_before_last = step;
+        step = p / q;
+        const double u = x + step;
+        if (u - lo < 2.0 * tol || hi - u < 2.0 * tol) step = std::copysign(tol, mid - x);
+        parabolic = true;
+      }
+    }
+    if (!parabolic) {
+      step_before_last = x >= mid ? lo - x : hi - x;
+      step = golden * step_before_last;
+    }
+    const double u = std::abs(step) >= tol ? x + step : x + std::copysign(tol, step);
+    const double fu = f(u);
+    if (fu >= fx) {
+      (u >= x ? lo : hi) = x;
+      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
     } else {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - r * (hi - lo);
-      f1 = f(x1);
+      (u < x ? lo : hi) = u;
+      if (fu >= fw || w == x) {
+        v = w, fv = fw, w = u, fw = fu;
+      } else if (fu >= fv || v == x || v == w) {
+        v = u, fv = fu;
+      }
     }
   }
-  if (f1 > best.value) best = {x1, f1};
-  if (f2 > best.value) best = {x2, f2};
-  return best;
+  return {x, fx};
 }
 
 void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,

@@ -63,9 +63,10 @@ struct Impact {
 };
 
 /// The largest value of f over [a, b] when it lies inside the interval — f rises from a and
-/// falls into b, or the midpoint beats both ends — by golden-section search to a bracket of
-/// 1e-9 (b − a) (or of t's own resolution; at most 64 steps). Returns {t, f(t)}, or {a, −inf} when
-/// no interior point beats both ends (the ends are solution points the log sees anyway).
+/// falls into b, or the midpoint beats both ends — by Brent's parabolic and golden-section search
+/// to a bracket of 1e-9 (b − a) (or of t's own resolution; at most 64 steps). Returns {t, f(t)}, or
+/// {a, −inf} when no interior point beats both ends (the ends are solution points the log sees
+/// anyway).
 struct LocatedMaximum {
   double t{0.0};
   double value{0.0};
