@@ -9,6 +9,8 @@
   channel), within 5 %.
 - The buckling load: pi^2 E I / L^2 of the main job's rod (weak axis, pinned), from its
   resolved input, to the digits printed.
+- The main job's reduced rod against the exact rod with Rayleigh damping (p95 of the
+  per-revolution peak slider acceleration, bearing-force amplification, peak gauge stress).
 - The rigid rig's guide calibration: the median per-revolution peak |a| at 101 rpm over the
   ideal joint's, at the preset's guide damping and 2 % below and above it, to the printed digits.
 
@@ -126,6 +128,27 @@ def check_rigid_rig_calibration(binary, readme, tmp, errors):
                           "ratio %.3f, the README says %s" % (d, ratio, quoted))
 
 
+def check_exact_rod_comparison(binary, readme, tmp, errors):
+    """The main job's reduced rod against the exact rod, both with Rayleigh damping."""
+    text = readme_text(readme)
+    m = re.search(r"the p95 of the per-revolution peak slider acceleration ([\d.]+) against "
+                  r"([\d.]+) m/s², the bearing-force amplification ([\d.]+) against ([\d.]+), "
+                  r"the peak gauge stress ([\d.]+) against ([\d.]+) MPa", text)
+    for k, rod in enumerate(("flexible", "exact")):
+        out = os.path.join(tmp, "rayleigh-%s" % rod)
+        run(binary, out, "rod.type=" + rod, "damping.type=rayleigh", "damping.beta=2e-5",
+            "output.channels=crank_angle")
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        figures = ["%.1f" % s["slider_acceleration"]["per_revolution_abs"]["p95"],
+                   "%.2f" % s["load_amplification"]["bearing_force"],
+                   "%.2f" % (s["rod"]["peak_gauge_stress [Pa]"] / 1e6)]
+        quoted = [m.group(1 + k), m.group(3 + k), m.group(5 + k)]
+        if figures != quoted:
+            errors.append("rod.type = %s with Rayleigh damping: %s, the README says %s"
+                          % (rod, figures, quoted))
+
+
 def main(argv):
     binary, readme = argv[1], argv[2]
     errors = []
@@ -134,6 +157,7 @@ def main(argv):
         check_sizes(binary, readme, tmp, report, errors)
         check_buckling(readme, tmp, errors)
         check_rigid_rig_calibration(binary, readme, tmp, errors)
+        check_exact_rod_comparison(binary, readme, tmp, errors)
     for err in errors:
         print(err)
     print("%d README figures differ" % len(errors))
