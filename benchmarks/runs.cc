@@ -29,13 +29,19 @@ struct Case {
   const char* preset;
   std::vector<std::string> sets;
   const char* target;
+  const char* reference{nullptr};  ///< a case whose run time this one's is compared with
 };
 
 const std::vector<Case> kCases = {
     {"main-job",
      "flexible-rig",
      {},
-     "<= 0.93 s solver wall, 20 % over 0.772 s before the geometrically consistent rod (issue 23)"},
+     "the run <= 1.20 x main-job-linear-rod's (issue 23: at most 20 % over the linear rod)",
+     "main-job-linear-rod"},
+    {"main-job-linear-rod",
+     "flexible-rig",
+     {"rod.geometric_stiffening=false"},
+     "none (main-job's reference: the rod without the second-order strain, as before issue 23)"},
     {"flexible-ideal-200rpm",
      "flexible-rig",
      {"joint.type=ideal", "drive.speed=200 rpm", "reduction.modes=8", "sim.settle=1 s",
@@ -197,6 +203,7 @@ int main(int argc, char** argv) {
     }
   }
   int rc = 0;
+  std::vector<std::pair<const Case*, std::vector<double>>> runs;  // the run's times per case
   for (const Case& c : kCases) {
     if (!names.empty() && std::find(names.begin(), names.end(), c.name) == names.end()) continue;
     if (repeat == 1) {
@@ -215,6 +222,22 @@ int main(int argc, char** argv) {
     PrintSpread("end to end:", end_to_end);
     PrintSpread("the run itself:", run);
     if (twin.front() > 0.0) PrintSpread("its ideal-joint twin:", twin);
+    runs.emplace_back(&c, run);
+  }
+  // Ratios of the run times to the reference case's, when both ran.
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  for (const auto& [c, t] : runs) {
+    if (c->reference == nullptr) continue;
+    for (const auto& [ref, tr] : runs) {
+      if (std::string(ref->name) != c->reference) continue;
+      std::printf("%s / %s, the run itself: %.3f (min over min), %.3f (median over median)\n",
+                  c->name, ref->name,
+                  *std::min_element(t.begin(), t.end()) / *std::min_element(tr.begin(), tr.end()),
+                  median(t) / median(tr));
+    }
   }
   return rc;
 }
