@@ -2,7 +2,6 @@
 // Notation (ffrf-planar.md): A = A(θ), J = [[0,−1],[1,0]], s = S̄₀ + S̄q, w = I₁ + M_ff q,
 // c = Ī + S̃q, ū = ū₀ + S_u q (marker), Jr = [I, AJū, AS_u], Jφ = [0, 0, 1, S_φ].
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // the residual must not allocate (tests/multibody)
 #include "multibody/dae_kernels.h"
 
 #include <algorithm>
@@ -25,6 +24,8 @@ namespace flexrod::multibody::dae_kernels {
 // k = EA/L_e, and F_g = Σ_k c_k H_k q + k Wᵀ σ: the gradient of ½ k |a|² less ½ qᵀKq's axial
 // part, which K q already has. The modal kernel forms the r vectors H_k q (r n² operations),
 // the element kernel sums over the elements (T q, K_G w_e, Tᵀ).
+
+namespace {
 
 // Views of the H_k: (n × n r) with column block k = H_k, so that [H_k x] = viewᵀ x (H_k is
 // symmetric); Body::strain_tensors (n² × r) is the same storage.
@@ -95,6 +96,8 @@ void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
   s->Dqd = s->damping_g;
   AddStrainGradient(b, s->damping_eta, s, &s->Dqd);
 }
+
+}  // namespace
 
 // `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
 // refreshes them itself): output samples at 100 kHz need the kinematics and the energies only.
