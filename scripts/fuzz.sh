@@ -18,11 +18,18 @@ cmake -DFLEXROD_SOURCE="$root" -DFLEXROD_OUTPUT="$dir/presets_data.cc" \
 # The parsers' sources, derived from the fuzzer's includes (a file split cannot break the list).
 mapfile -t sources < <(/usr/bin/python3 "$root/scripts/fuzz_sources.py" "$root")
 echo "fuzz: building $dir/parsers_fuzzer (clang++ -fsanitize=fuzzer,address,undefined)"
-(cd "$root" && clang++ -std=c++20 -O1 -g -DNDEBUG -fno-omit-frame-pointer \
-  -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -fsanitize-ignorelist="$root/fuzz/ubsan_ignore.txt" \
-  -I "$root" -I /usr/include/eigen3 "${sources[@]}" "$dir/presets_data.cc" \
-  -ltomlplusplus -lgsl -lgslcblas -o "$dir/parsers_fuzzer")
+# One object per source, compiled in parallel (one clang++ over all of them runs on one core).
+flags=(-std=c++20 -O1 -g -DNDEBUG -fno-omit-frame-pointer
+  -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+  -fsanitize-ignorelist="$root/fuzz/ubsan_ignore.txt" -I "$root" -I /usr/include/eigen3)
+rm -rf "$dir/obj" && mkdir -p "$dir/obj"
+export dir
+printf '%s\n' "${sources[@]}" "$dir/presets_data.cc" |
+  (cd "$root" && xargs -P "$(nproc 2>/dev/null || echo 2)" -I{} sh -c \
+    'f="$1"; shift; clang++ "$@" -c "$f" -o "$dir/obj/$(printf %s "$f" | tr / _).o"' \
+    sh {} "${flags[@]}")
+clang++ -fsanitize=fuzzer,address,undefined "$dir"/obj/*.o -ltomlplusplus -lgsl -lgslcblas \
+  -o "$dir/parsers_fuzzer"
 echo "fuzz: running for $seconds s"
 cd "$dir"
 ./parsers_fuzzer -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
