@@ -1,7 +1,6 @@
 // multibody/clearance_joint.cc — the clearance joint force element (see clearance_joint.h for
 // the contact logic and the energy bookkeeping of every law).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/clearance_joint.h"
 
 #include <algorithm>

@@ -3,7 +3,6 @@
 // Notation (ffrf-planar.md): A = A(θ), J = [[0,−1],[1,0]], s = S̄₀ + S̄q, w = I₁ + M_ff q,
 // c = Ī + S̃q, ū = ū₀ + S_u q (marker), Jr = [I, AJū, AS_u], Jφ = [0, 0, 1, S_φ].
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // the residual must not allocate (tests/multibody)
 #include "multibody/dae.h"
 
 #include <algorithm>

@@ -3,7 +3,6 @@
 // (or central differences in its inputs); and its structural sparsity.
 // Notation (ffrf-planar.md): as multibody/dae.cc.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // the Jacobian must not allocate (tests/multibody)
 #include <algorithm>
 #include <set>
 

@@ -1,7 +1,6 @@
 // multibody/driver.cc — the drivers' own laws: DC motor parameters, speed profiles, the
 // prescribed angle, speed and acceleration, the motor's torque line.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include <algorithm>
 #include <cmath>
 

@@ -2,7 +2,6 @@
 // AddFlexibleBody): the rod's checks, its second-order strain data, its damping matrix from the
 // damping specification (DampingSpec) and its own modal frequencies.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include <Eigen/Eigenvalues>
 #include <array>
 #include <cmath>

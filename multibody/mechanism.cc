@@ -2,7 +2,6 @@
 // joints, drivers and elements (flexible bodies: multibody/flexible_body.cc; the drivers' laws:
 // multibody/driver.cc).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/mechanism.h"
 
 #include <algorithm>

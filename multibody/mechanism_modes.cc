@@ -1,7 +1,6 @@
 // multibody/mechanism_modes.cc — linearised modes of the assembled mechanism and the body
 // damping matrix that gives them prescribed ratios.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/mechanism_modes.h"
 
 #include <Eigen/Eigenvalues>

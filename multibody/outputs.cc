@@ -1,6 +1,5 @@
 // multibody/outputs.cc — observer queries on a state.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/outputs.h"
 
 #include <algorithm>

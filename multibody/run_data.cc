@@ -1,6 +1,5 @@
 // multibody/run_data.cc — sizing of the per-run workspace.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/run_data.h"
 
 #include <algorithm>

@@ -1,7 +1,6 @@
 // multibody/sample_view.cc — the solution at one time as a view (SampleView: markers, reactions,
 // drivers, elements, energies, constraint violation) and inside one step (StepInterpolant).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include <algorithm>
 
 #include "multibody/dae.h"

@@ -1,7 +1,6 @@
 // multibody/simulate.cc — consistent initial conditions, the IDA adapter, the options and
 // status of a run (its loop: multibody/simulation_loop.cc; sample views: multibody/sample_view.cc).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include "multibody/simulate.h"
 
 #include <Eigen/LU>

@@ -2,7 +2,6 @@
 // roots (element events and the crank index), stop times, re-initialisations, budgets and the
 // failure report.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // consistent Eigen configuration across multibody (see tests)
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -78,7 +78,7 @@ ReductionTable TabulateReduction(const std::vector<ReductionVariant>& variants,
   t.header = {"variant", "outcome"};
   for (int c = 0; c < ReductionFigures::kCount; ++c) {
     t.header.push_back(ReductionFigures::Name(c));
-    t.header.push_back(std::string("diff. to exact [%]"));
+    t.header.emplace_back("diff. to exact [%]");
   }
   t.header.push_back("max |diff.| [%]");
   t.header.push_back("wall [s]");

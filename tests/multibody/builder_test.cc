@@ -2,7 +2,6 @@
 // InputError naming the key, the value and the rule; the built model has the documented
 // layout and readable variable names.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <stdexcept>

@@ -7,7 +7,6 @@
 // dissipation D_n ≥ 0 (the bookkeeping that closes a run's energy balance); onset, separation and
 // maximum-penetration roots set the memory as documented.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <array>

@@ -7,7 +7,6 @@
 // engine's iteration Jacobian, whose contact blocks come from finite differences with the
 // joint's fd_scales, matches a central-difference Jacobian of the residual in contact.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <cmath>

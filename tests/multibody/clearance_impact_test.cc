@@ -6,7 +6,6 @@
 // brief), plus hybrid (the default), elasto-plastic (history updated at the located maximum
 // penetration) and maxwell (an element state reset at onset).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -3,14 +3,13 @@
 // residual for a mechanism that uses every feature; its non-zeros lie inside the sparsity
 // pattern given to KLU; and one residual evaluation performs no heap allocation.
 //
-// Allocation check: EIGEN_RUNTIME_NO_MALLOC is defined here and in every multibody source
-// file, and Eigen::internal::set_is_malloc_allowed(false) guards the evaluation — Eigen turns
-// a heap allocation into an assertion failure in builds with assertions. Because Release
+// Allocation check: EIGEN_RUNTIME_NO_MALLOC is defined for every source (CMakeLists.txt),
+// and Eigen::internal::set_is_malloc_allowed(false) guards the evaluation — Eigen turns a heap
+// allocation into an assertion failure in builds with assertions. Because Release
 // builds compile assertions out, this file also counts calls to malloc (glibc, forwarding to
 // __libc_malloc) during the evaluation, which catches Eigen, operator new and std
 // containers in every build type (not under AddressSanitizer, which owns malloc).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC
 #include <gtest/gtest.h>
 
 #include <cstdlib>

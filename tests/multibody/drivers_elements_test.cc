@@ -4,7 +4,6 @@
 // guide friction (constant deceleration), spring-damper and rotational-spring oscillators,
 // and the reaction forces of revolute, ground and weld joints.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -4,7 +4,6 @@
 // with damping (the dissipated energy closes the balance); in a slider-crank with guide
 // friction the driver work equals kinetic energy gained plus energy dissipated.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <numbers>

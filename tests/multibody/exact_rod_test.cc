@@ -4,7 +4,6 @@
 // differences of the residual; a free, undamped rod spinning and vibrating conserves its energy;
 // a very stiff exact rod reproduces the exact rigid slider-crank kinematics.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include "multibody/exact_rod.h"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,6 @@
 // that stays exactly zero after its root (IDA's "root found at and very near t") is not a
 // failure: the run re-initialises there and goes on.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <algorithm>

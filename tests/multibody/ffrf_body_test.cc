@@ -4,7 +4,6 @@
 // Lagrange identity Q_v = −Ṁṗ + ∂T/∂p, q = 0 reproduces mass, centre of mass and inertia,
 // rigid bodies are the n = 0 case, and the modal damping has the prescribed ratios.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>

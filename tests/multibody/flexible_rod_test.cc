@@ -3,7 +3,6 @@
 // sparse (KLU) and dense linear solvers give the same trajectory; the static-equilibrium
 // start of a cantilever under gravity deflects its tip by q L⁴ / (8 E I) and does not move.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <numbers>

@@ -5,7 +5,6 @@
 // the dense result; a cap on the magnitude the relative tolerance applies to resolves a small
 // motion at a large offset; bad options are rejected.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include "multibody/ida_integrator.h"
 
 #include <gtest/gtest.h>

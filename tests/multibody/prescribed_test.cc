@@ -8,7 +8,6 @@
 // guide with an offset, turned marker (guided), and a grounded frame body carrying a spring to
 // the slider (held).
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include "multibody/prescribed.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,6 @@
 // parts reproduces the exact kinematics (in-line and offset), keeps its constraints over
 // many revolutions, and reports index crossings at the exact times.
 // SPDX-License-Identifier: GPL-3.0-or-later
-#define EIGEN_RUNTIME_NO_MALLOC  // same Eigen configuration as the library (see dae_jacobian_test)
 #include <gtest/gtest.h>
 
 #include <cmath>
