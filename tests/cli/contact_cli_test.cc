@@ -3,44 +3,26 @@
 // PNG of the force–penetration loop.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code;
-  std::string output;  // stdout + stderr
-};
-
-RunResult RunFlexrod(const std::string& args) {
-  const fs::path log =
-      fs::temp_directory_path() / ("contact_cli_" + std::to_string(getpid()) + ".log");
-  const std::string cmd = std::string(FLEXROD_BINARY) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  fs::remove(log);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
-}
-
-fs::path TempPath(const std::string& name) {
-  return fs::temp_directory_path() /
-         ("flexrod_contact_cli_" + std::to_string(getpid()) + "_" + name);
-}
+using flexrod::test::CommandResult;
+using flexrod::test::Flexrod;
+using flexrod::test::ScratchPath;
 
 TEST(ContactCli, JsonHasTheResultKeysAndTheResolvedParameters) {
-  const fs::path json = TempPath("flores.json");
-  const RunResult run = RunFlexrod(
+  const fs::path json = ScratchPath("contact_cli_flores.json");
+  const CommandResult run = Flexrod(
       "contact --law flores --restitution 0.8 --mass \"2.71 kg\" "
       "--velocity \"500 mm/s\" --pin-radius \"9.025 mm\" --json " +
       json.string());
@@ -78,9 +60,9 @@ TEST(ContactCli, AnApproachBelowTheDampingFloorIsWarnedAbout) {
   // floor decides the restitution (Flores, input 0.5: 0.90) unless the user lowers it, and then
   // the achieved restitution is the speed-independent one of 0.5 m/s.
   auto achieved = [](const std::string& extra, bool* warned) {
-    const fs::path json = TempPath("floor.json");
-    const RunResult run = RunFlexrod("contact --law flores --restitution 0.5 --mass \"2.71 kg\" " +
-                                     extra + " --json " + json.string());
+    const fs::path json = ScratchPath("contact_cli_floor.json");
+    const CommandResult run = Flexrod("contact --law flores --restitution 0.5 --mass \"2.71 kg\" " +
+                                      extra + " --json " + json.string());
     EXPECT_EQ(run.exit_code, 0) << run.output;
     std::ifstream in(json);
     const nlohmann::json j = nlohmann::json::parse(in);
@@ -103,11 +85,11 @@ TEST(ContactCli, AnApproachBelowTheDampingFloorIsWarnedAbout) {
 }
 
 TEST(ContactCli, UnknownLawExitsWithCode2AndWritesNothing) {
-  const fs::path json = TempPath("unknown.json");
-  const fs::path png = TempPath("unknown.png");
+  const fs::path json = ScratchPath("contact_cli_unknown.json");
+  const fs::path png = ScratchPath("contact_cli_unknown.png");
   fs::remove(json);
-  const RunResult run = RunFlexrod("contact --law hertzian --mass 1 --velocity 1 --json " +
-                                   json.string() + " --plot " + png.string());
+  const CommandResult run = Flexrod("contact --law hertzian --mass 1 --velocity 1 --json " +
+                                    json.string() + " --plot " + png.string());
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("hertzian"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(json));
@@ -115,31 +97,31 @@ TEST(ContactCli, UnknownLawExitsWithCode2AndWritesNothing) {
 }
 
 TEST(ContactCli, ParameterTheLawDoesNotTakeExitsWithCode2) {
-  const fs::path json = TempPath("badparam.json");
-  const RunResult run = RunFlexrod(
+  const fs::path json = ScratchPath("contact_cli_badparam.json");
+  const CommandResult run = Flexrod(
       "contact --law hertz --restitution 0.5 --mass 1 --velocity 1 --json " + json.string());
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("restitution = 0.5"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(json));
-  const RunResult bad_e =
-      RunFlexrod("contact --law flores --restitution 1.5 --mass 1 --velocity 1");
+  const CommandResult bad_e =
+      Flexrod("contact --law flores --restitution 1.5 --mass 1 --velocity 1");
   EXPECT_EQ(bad_e.exit_code, 2) << bad_e.output;
   // A pin larger than its bush: the error names the flag.
-  const RunResult big_pin =
-      RunFlexrod("contact --law hertz --mass 1 --velocity 1 --pin-radius \"10 mm\"");
+  const CommandResult big_pin =
+      Flexrod("contact --law hertz --mass 1 --velocity 1 --pin-radius \"10 mm\"");
   EXPECT_EQ(big_pin.exit_code, 2) << big_pin.output;
   EXPECT_NE(big_pin.output.find("pin-radius = 0.01 m: must be < bush_radius"), std::string::npos)
       << big_pin.output;
-  const RunResult soft_bush =
-      RunFlexrod("contact --law hertz --mass 1 --velocity 1 --bush-E \"-3 GPa\"");
+  const CommandResult soft_bush =
+      Flexrod("contact --law hertz --mass 1 --velocity 1 --bush-E \"-3 GPa\"");
   EXPECT_EQ(soft_bush.exit_code, 2) << soft_bush.output;
   EXPECT_NE(soft_bush.output.find("bush-E = "), std::string::npos) << soft_bush.output;
 }
 
 TEST(ContactCli, PlotWritesAPng) {
-  const fs::path png = TempPath("loop.png");
+  const fs::path png = ScratchPath("contact_cli_loop.png");
   fs::remove(png);
-  const RunResult run = RunFlexrod(
+  const CommandResult run = Flexrod(
       "contact --law hybrid --restitution 0.9 --mass 1 --velocity 0.3 --plot " + png.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   std::ifstream in(png, std::ios::binary);

@@ -2,10 +2,8 @@
 // The documented interface: `flexrod run`, `flexrod modes`, presets (examples run in CI on a
 // short horizon), exit codes and "no half-written output".
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -18,6 +16,7 @@
 #include "common/hdf5.h"
 #include "io/run_writer.h"
 #include "sweep/sweep_store.h"
+#include "tests/test_util.h"
 
 namespace {
 
@@ -27,25 +26,16 @@ namespace h5 = flexrod::h5;
 namespace study = flexrod::study;
 
 namespace fs = std::filesystem;
-
-int Flexrod(const std::string& args) {
-  const std::string cmd = std::string(FLEXROD_BINARY) + " " + args + " >/dev/null 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WEXITSTATUS(status);
-}
-
-fs::path TempDir(const std::string& name) {
-  fs::path p =
-      fs::temp_directory_path() / ("flexrod_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
+using flexrod::test::CommandResult;
+using flexrod::test::Flexrod;
+using flexrod::test::ScratchPath;
+using flexrod::test::Shell;
 
 /// Each command, with `--out DIR` appended, exits with 2 and DIR is never created.
 void ExpectExitTwoAndNoOutput(const std::string& name, const std::vector<std::string>& commands) {
-  const fs::path out = TempDir(name);
+  const fs::path out = ScratchPath("cli_" + name);
   for (const std::string& c : commands) {
-    EXPECT_EQ(Flexrod(c + " --out " + out.string()), 2) << c;
+    EXPECT_EQ(Flexrod(c + " --out " + out.string()).exit_code, 2) << c;
     EXPECT_FALSE(fs::exists(out)) << c;
   }
 }
@@ -53,11 +43,12 @@ void ExpectExitTwoAndNoOutput(const std::string& name, const std::vector<std::st
 TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
   for (const std::string preset :
        {"flexible-rig", "rigid-rig", "simeon-crank", "flexible-pendulum"}) {
-    const fs::path out = TempDir(preset);
+    const fs::path out = ScratchPath("cli_" + preset);
     const int rc = Flexrod("run " + preset +
                            " --no-plot --set sim.settle=0.01s --set sim.capture=0.02s "
                            "--set sim.sample_rate=2kHz --out " +
-                           out.string());
+                           out.string())
+                       .exit_code;
     EXPECT_EQ(rc, 0) << preset;
     EXPECT_TRUE(fs::exists(out / "run.h5")) << preset;
     EXPECT_FALSE(fs::exists(out / "channels.csv")) << preset;  // CSV only on request
@@ -72,40 +63,36 @@ TEST(RunCli, EveryPresetRunsOnAShortHorizon) {
 // A clearance run's ideal-joint twin is a run of its own; its warnings (here: a loose
 // tolerance breaks its energy balance) reach the console, marked, not only summary.json.
 TEST(RunCli, TheTwinsWarningsAreShown) {
-  const fs::path out = TempDir("twin_warning");
-  const fs::path err = TempDir("twin_warning_stderr");
-  const std::string cmd = std::string(FLEXROD_BINARY) +
-                          " run rigid-rig --no-plot --set sim.rel_tol=1e-2 --set sim.settle=0.1s "
-                          "--set sim.capture=0.4s "
-                          "--set sim.sample_rate=2kHz --out " +
-                          out.string() + " >/dev/null 2>" + err.string();
-  ASSERT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 0);
+  const fs::path out = ScratchPath("cli_twin_warning");
+  const CommandResult run = Flexrod(
+      "run rigid-rig --no-plot --set sim.rel_tol=1e-2 --set sim.settle=0.1s "
+      "--set sim.capture=0.4s --set sim.sample_rate=2kHz --out " +
+      out.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
   std::ifstream in(out / "summary.json");
   const nlohmann::json s = nlohmann::json::parse(in);
   ASSERT_TRUE(s["ideal"].contains("warnings"));
-  std::ifstream e(err);
-  const std::string text((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
   for (const auto& w : s["ideal"]["warnings"]) {
-    EXPECT_NE(text.find("flexrod: warning: ideal-joint twin: " + w.get<std::string>()),
+    EXPECT_NE(run.output.find("flexrod: warning: ideal-joint twin: " + w.get<std::string>()),
               std::string::npos)
-        << text;
+        << run.output;
   }
   fs::remove_all(out);
-  fs::remove(err);
 }
 
 TEST(RunCli, ExampleFilesRunAsInputFiles) {
-  const fs::path out = TempDir("file");
+  const fs::path out = ScratchPath("cli_file");
   EXPECT_EQ(Flexrod("run " + std::string(FLEXROD_SOURCE_DIR) +
                     "/examples/rigid-rig.toml --no-plot "
                     "--set sim.settle=0s --set sim.capture=0.02s --out " +
-                    out.string()),
+                    out.string())
+                .exit_code,
             0);
   fs::remove_all(out);
 }
 
 TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
-  const fs::path bad_toml = TempDir("bad_toml");
+  const fs::path bad_toml = ScratchPath("cli_bad_toml");
   fs::create_directories(bad_toml);
   std::ofstream(bad_toml / "x.toml") << "[rod\nheight = ";
   ExpectExitTwoAndNoOutput(
@@ -123,11 +110,12 @@ TEST(RunCli, BadInputExitsWithTwoAndWritesNothing) {
 // difference into the summary; a check that would go below the tolerance floor is refused
 // before any work.
 TEST(RunCli, CheckWritesTheDifferencesAtTighterTolerances) {
-  const fs::path out = TempDir("check");
+  const fs::path out = ScratchPath("cli_check");
   ASSERT_EQ(
       Flexrod("run rigid-rig --check --no-plot --set joint.type=clearance --set sim.settle=0s "
               "--set sim.capture=0.4s --out " +
-              out.string()),
+              out.string())
+          .exit_code,
       0);
   std::ifstream in(out / "summary.json");
   const nlohmann::json s = nlohmann::json::parse(in);
@@ -144,12 +132,12 @@ TEST(RunCli, CheckWritesTheDifferencesAtTighterTolerances) {
 // An --out that cannot be a directory (a regular file) is refused before the run, not after
 // it (the whole simulation used to be lost), and the file is left as it was.
 TEST(RunCli, OutThatCannotBeADirectoryExitsWithTwoBeforeTheRun) {
-  const fs::path dir = TempDir("out_file");
+  const fs::path dir = ScratchPath("cli_out_file");
   fs::create_directories(dir);
   const fs::path file = dir / "a_file";
   std::ofstream(file) << "keep";
-  EXPECT_EQ(Flexrod("run --out " + file.string()), 2);  // the default 4.2 s flexible rig
-  EXPECT_EQ(Flexrod("run --out " + (file / "sub").string()), 2);
+  EXPECT_EQ(Flexrod("run --out " + file.string()).exit_code, 2);  // the default 4.2 s flexible rig
+  EXPECT_EQ(Flexrod("run --out " + (file / "sub").string()).exit_code, 2);
   std::ifstream in(file);
   std::string text;
   in >> text;
@@ -160,31 +148,28 @@ TEST(RunCli, OutThatCannotBeADirectoryExitsWithTwoBeforeTheRun) {
 // A run that fails numerically exits 1, keeps what it computed and reports the time, the
 // state (norms, the variable with the largest residual) and a hint naming the user's key.
 TEST(RunCli, NumericalFailureReportsTimeStateAndHint) {
-  const fs::path out = TempDir("failure");
-  const fs::path log =
-      fs::temp_directory_path() / ("flexrod_cli_failure_" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = std::string(FLEXROD_BINARY) +
-                          " run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
-                          "--set sim.max_steps=10 --out " +
-                          out.string() + " >" + log.string() + " 2>&1";
-  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
-  std::ifstream in(log);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const fs::path out = ScratchPath("cli_failure");
+  const CommandResult run = Flexrod(
+      "run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
+      "--set sim.max_steps=10 --out " +
+      out.string());
+  EXPECT_EQ(run.exit_code, 1);
   for (const char* part :
        {"step-limit at t = ", "hint: increase the step budget (sim.max_steps)",
         "|p| = ", "p[crank.theta] = ", "v[slider.x] = ", "largest residual", "kept "}) {
-    EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+    EXPECT_NE(run.output.find(part), std::string::npos) << part << "\n" << run.output;
   }
   EXPECT_TRUE(fs::exists(out / "summary.json"));
   fs::remove_all(out);
-  fs::remove(log);
 }
 
 TEST(ModesCli, JsonHasTheDocumentedKeys) {
-  const fs::path dir = TempDir("modes");
+  const fs::path dir = ScratchPath("cli_modes");
   fs::create_directories(dir);
   const fs::path json = dir / "modes.json";
-  ASSERT_EQ(Flexrod("modes --material brass --height 12.7mm --modes 6 --json " + json.string()), 0);
+  ASSERT_EQ(
+      Flexrod("modes --material brass --height 12.7mm --modes 6 --json " + json.string()).exit_code,
+      0);
   std::ifstream in(json);
   const nlohmann::json j = nlohmann::json::parse(in);
   ASSERT_TRUE(j.contains("modes"));
@@ -203,23 +188,24 @@ TEST(ModesCli, JsonHasTheDocumentedKeys) {
 }
 
 TEST(ModesCli, BadFlagsExitWithTwoAndWriteNothing) {
-  const fs::path dir = TempDir("modes_bad");
+  const fs::path dir = ScratchPath("cli_modes_bad");
   fs::create_directories(dir);
   const fs::path json = dir / "m.json";
   for (const std::string args :
        {"--height -3mm", "--material unobtainium", "--E abc", "--modes 5000", "--elements 0",
         "--bc glued", "--reduction magic", "--interface 999", "--length \"3 kg\""}) {
-    EXPECT_EQ(Flexrod("modes " + args + " --json " + json.string()), 2) << args;
+    EXPECT_EQ(Flexrod("modes " + args + " --json " + json.string()).exit_code, 2) << args;
     EXPECT_FALSE(fs::exists(json)) << args;
   }
   fs::remove_all(dir);
 }
 
 TEST(ModesCli, FreeFreeReportsRigidBodyModes) {
-  const fs::path dir = TempDir("modes_ff");
+  const fs::path dir = ScratchPath("cli_modes_ff");
   fs::create_directories(dir);
   const fs::path json = dir / "m.json";
-  ASSERT_EQ(Flexrod("modes --bc free-free --reduction free-free --modes 4 --json " + json.string()),
+  ASSERT_EQ(Flexrod("modes --bc free-free --reduction free-free --modes 4 --json " + json.string())
+                .exit_code,
             0);
   std::ifstream in(json);
   const nlohmann::json j = nlohmann::json::parse(in);
@@ -234,11 +220,12 @@ TEST(ModesCli, FreeFreeReportsRigidBodyModes) {
 namespace {
 
 TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
-  const fs::path out = TempDir("study");
+  const fs::path out = ScratchPath("cli_study");
   ASSERT_EQ(
       Flexrod("study rigid-rig-friction --no-plot --set sim.settle=0s --set sim.capture=0.05s "
               "--set sim.sample_rate=5kHz --out " +
-              out.string()),
+              out.string())
+          .exit_code,
       0);
   std::ifstream in(out / "table.csv");
   std::string line, header;
@@ -271,12 +258,13 @@ TEST(StudyCli, FrictionStudyWritesItsTablesAndRejectsUnknownStudies) {
     }
   }
   fs::remove_all(out);
-  EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()), 2);
+  EXPECT_EQ(Flexrod("study rigid-rig-everything --out " + out.string()).exit_code, 2);
   EXPECT_FALSE(fs::exists(out));
   // A key that fails a case (the 1 mm clearance does not fit a 0.8 mm bush) is refused before
   // any case runs or any file is written (it used to write three cases first).
   EXPECT_EQ(Flexrod("study rigid-rig-friction --no-plot --set joint.bush_radius=0.8mm --out " +
-                    out.string()),
+                    out.string())
+                .exit_code,
             2);
   EXPECT_FALSE(fs::exists(out));
 }
@@ -294,22 +282,24 @@ bool IsPng(const fs::path& path) {
 // of a clearance run (0.4 s: more than one revolution at 177 rpm, for the Poincare map); the
 // strain gauges of a flexible one; none left half-written.
 TEST(RunCli, RunWritesItsPlots) {
-  const fs::path rigid = TempDir("plots_rigid");
+  const fs::path rigid = ScratchPath("cli_plots_rigid");
   ASSERT_EQ(
       Flexrod(
           "run rigid-rig --set sim.settle=0s --set sim.capture=0.4s --set sim.sample_rate=20kHz "
           "--out " +
-          rigid.string()),
+          rigid.string())
+          .exit_code,
       0);
   for (const char* png : {"slider_acceleration.png", "spectrum.png", "poincare.png",
                           "journal_orbit.png", "bearing_force.png"}) {
     EXPECT_TRUE(IsPng(rigid / png)) << png;
   }
-  const fs::path flexible = TempDir("plots_flexible");
+  const fs::path flexible = ScratchPath("cli_plots_flexible");
   ASSERT_EQ(Flexrod("run flexible-rig --set sim.settle=0.01s --set sim.capture=0.05s --set "
                     "sim.sample_rate=20kHz "
                     "--out " +
-                    flexible.string()),
+                    flexible.string())
+                .exit_code,
             0);
   EXPECT_TRUE(IsPng(flexible / "rod_strain.png"));
   for (const fs::path& dir : {rigid, flexible}) {
@@ -331,11 +321,13 @@ std::string ReadText(const fs::path& path) {
 // values are written into the run's resolved input"), as comments, so that the file still
 // loads as an input (0 = derive) and reruns the same mechanism.
 TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
-  const fs::path first = TempDir("resolved_first"), again = TempDir("resolved_again");
+  const fs::path first = ScratchPath("cli_resolved_first"),
+                 again = ScratchPath("cli_resolved_again");
   ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.1s --set "
                     "joint.exponent=1.4 "
                     "--out " +
-                    first.string()),
+                    first.string())
+                .exit_code,
             0);
   const std::string toml = ReadText(first / "resolved.toml");
   // Hybrid law, steel on steel: the stiffness is fitted to ESDU-78035; the user's exponent was used
@@ -348,7 +340,8 @@ TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
   EXPECT_NE(toml.find("# resolved joint.pin_radius = 0.008525 m (derived)\n"), std::string::npos)
       << toml;
   ASSERT_EQ(
-      Flexrod("run " + (first / "resolved.toml").string() + " --no-plot --out " + again.string()),
+      Flexrod("run " + (first / "resolved.toml").string() + " --no-plot --out " + again.string())
+          .exit_code,
       0);
   std::ifstream a(first / "summary.json"), b(again / "summary.json");
   const nlohmann::json sa = nlohmann::json::parse(a), sb = nlohmann::json::parse(b);
@@ -386,10 +379,11 @@ std::vector<std::vector<double>> ReadCsvRows(const fs::path& path, std::string* 
 // run.h5 (the default) holds the standard channels of the run and of its ideal twin, the
 // impact log and the summary, bit for bit the numbers of the CSV files (%.17g round-trips).
 TEST(RunCli, RunFileHoldsTheChannelsTwinImpactsAndSummaryOfTheCsv) {
-  const fs::path out = TempDir("run_h5");
+  const fs::path out = ScratchPath("cli_run_h5");
   ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.2s "
                     "--set sim.sample_rate=20kHz --set output.format=hdf5,csv --out " +
-                    out.string()),
+                    out.string())
+                .exit_code,
             0);
   const h5::Node file = h5::OpenFile((out / "run.h5").string());
   EXPECT_EQ(file.GetString("format"), "flexrod-run 1");
@@ -436,14 +430,14 @@ TEST(RunCli, RunFileHoldsTheChannelsTwinImpactsAndSummaryOfTheCsv) {
   EXPECT_EQ(nlohmann::json::parse(run.summary_json), s);
   EXPECT_EQ(run.Summary("peak_positive"), s["slider_acceleration"]["peak_positive"].get<double>());
   // examples/read_store.py reads it, and finds a unit on every dataset.
-  EXPECT_EQ(WEXITSTATUS(std::system((std::string(FLEXROD_PYTHON) +
-                                     " " FLEXROD_SOURCE_DIR "/examples/read_store.py " +
-                                     (out / "run.h5").string() + " --check-units >/dev/null")
-                                        .c_str())),
-            0);
+  const CommandResult units =
+      Shell(std::string(FLEXROD_PYTHON) + " " FLEXROD_SOURCE_DIR "/examples/read_store.py " +
+            (out / "run.h5").string() + " --check-units");
+  EXPECT_EQ(units.exit_code, 0) << units.output;
   // A run into the same directory that writes HDF5 only removes the CSV files it replaces.
   ASSERT_EQ(Flexrod("run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.01s --out " +
-                    out.string()),
+                    out.string())
+                .exit_code,
             0);
   EXPECT_TRUE(fs::exists(out / "run.h5"));
   EXPECT_FALSE(fs::exists(out / "channels.csv"));
@@ -456,34 +450,31 @@ TEST(RunCli, RunFileHoldsTheChannelsTwinImpactsAndSummaryOfTheCsv) {
 // committed, run.h5, after resolved.toml and summary.json, with ENOSPC): exit 3 naming the file
 // and the reason, the summary kept, no run.h5 and no temporary.
 TEST(RunCli, FullDiskAtTheChannelFileExitsWithThreeAndKeepsTheSummary) {
-  const fs::path out = TempDir("full_disk");
-  const fs::path err = TempDir("full_disk_stderr");
-  const std::string cmd = "FLEXROD_FAIL_WRITE=3 " + std::string(FLEXROD_BINARY) +
-                          " run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.02s "
-                          "--out " +
-                          out.string() + " >/dev/null 2>" + err.string();
-  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 3);
-  std::ifstream in(err);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(text.find("I/O error: No space left on device: " + (out / "run.h5").string()),
+  const fs::path out = ScratchPath("cli_full_disk");
+  const CommandResult run = Shell("FLEXROD_FAIL_WRITE=3 " + std::string(FLEXROD_BINARY) +
+                                  " run rigid-rig --no-plot --set sim.settle=0s "
+                                  "--set sim.capture=0.02s --out " +
+                                  out.string());
+  EXPECT_EQ(run.exit_code, 3);
+  EXPECT_NE(run.output.find("I/O error: No space left on device: " + (out / "run.h5").string()),
             std::string::npos)
-      << text;
+      << run.output;
   EXPECT_TRUE(fs::exists(out / "summary.json"));
   EXPECT_FALSE(fs::exists(out / "run.h5"));
   EXPECT_FALSE(fs::exists(out / "run.h5.tmp"));
   fs::remove_all(out);
-  fs::remove(err);
 }
 
 // output.channels / output.rate: what a run's channel files hold.
 TEST(RunCli, CsvHoldsTheSelectedChannelsAtTheSelectedRate) {
-  const fs::path out = TempDir("csv_select");
+  const fs::path out = ScratchPath("cli_csv_select");
   ASSERT_EQ(
       Flexrod(
           "run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.05s "
           "--set output.channels=\"slider_acceleration, penetration\" --set output.rate=\"10 kHz\" "
           "--set output.format=csv --out " +
-          out.string()),
+          out.string())
+          .exit_code,
       0);
   EXPECT_FALSE(fs::exists(out / "run.h5"));
   std::ifstream in(out / "channels.csv");
@@ -518,10 +509,11 @@ TEST(RunCli, BadCsvSelectionExitsWithTwoBeforeTheRun) {
 
 // `flexrod run --vtk DIR`: the ParaView output of one run, and its bad-input path.
 TEST(RunCli, VtkWritesACollectionOfExistingFrames) {
-  const fs::path root = TempDir("vtk_run");
+  const fs::path root = ScratchPath("cli_vtk_run");
   const fs::path vtk = root / "vtk";
   ASSERT_EQ(Flexrod("run rigid-rig --set sim.settle=\"0 s\" --set sim.capture=\"0.1 s\" --vtk " +
-                    vtk.string() + " --no-plot --out " + (root / "out").string()),
+                    vtk.string() + " --no-plot --out " + (root / "out").string())
+                .exit_code,
             0);
   ASSERT_TRUE(fs::exists(vtk / "run.pvd"));
   std::ifstream in(vtk / "run.pvd");
@@ -545,10 +537,11 @@ TEST(RunCli, VtkWritesACollectionOfExistingFrames) {
 }
 
 TEST(RunCli, BadVtkKeyExitsWithTwoAndWritesNoCollection) {
-  const fs::path root = TempDir("vtk_bad");
+  const fs::path root = ScratchPath("cli_vtk_bad");
   EXPECT_EQ(Flexrod("run rigid-rig --set vtk.scale=-1 --set sim.settle=\"0 s\" --set "
                     "sim.capture=\"0.01 s\" --vtk " +
-                    (root / "vtk").string() + " --no-plot --out " + (root / "out").string()),
+                    (root / "vtk").string() + " --no-plot --out " + (root / "out").string())
+                .exit_code,
             2);
   // Bad input writes nothing, not even the directories.
   EXPECT_FALSE(fs::exists(root));
@@ -556,12 +549,13 @@ TEST(RunCli, BadVtkKeyExitsWithTwoAndWritesNoCollection) {
 }
 
 TEST(RunCli, VtkDirectoryThatCannotExistExitsWithTwo) {
-  const fs::path root = TempDir("vtk_file");
+  const fs::path root = ScratchPath("cli_vtk_file");
   fs::create_directories(root);
   std::ofstream(root / "plain") << "x";
   EXPECT_EQ(
       Flexrod("run rigid-rig --set sim.settle=\"0 s\" --set sim.capture=\"0.01 s\" --vtk " +
-              (root / "plain" / "vtk").string() + " --no-plot --out " + (root / "out").string()),
+              (root / "plain" / "vtk").string() + " --no-plot --out " + (root / "out").string())
+          .exit_code,
       2);
   EXPECT_FALSE(fs::exists(root / "out"));
   fs::remove_all(root);

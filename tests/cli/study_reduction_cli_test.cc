@@ -2,39 +2,30 @@
 // `flexrod study reduction`: every variant runs and is compared with the exact rod; the table,
 // the verdict and each variant's summary are written; bad input is refused before any work.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "tests/test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
-
-int Flexrod(const std::string& args) {
-  const std::string cmd = std::string(FLEXROD_BINARY) + " " + args + " >/dev/null 2>&1";
-  return WEXITSTATUS(std::system(cmd.c_str()));
-}
-
-fs::path TempDir(const std::string& name) {
-  fs::path p =
-      fs::temp_directory_path() / ("flexrod_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
+using flexrod::test::Flexrod;
+using flexrod::test::ScratchPath;
 
 // The Simeon crank from rest for 10 ms, Rayleigh damping on every variant (β = 1e-5 s): the
 // exact rod and the full FE rod agree on the peak deflection-driven figures, every row is there.
 TEST(StudyReductionCli, EveryVariantIsComparedWithTheExactRod) {
-  const fs::path out = TempDir("reduction");
+  const fs::path out = ScratchPath("cli_reduction");
   const int rc = Flexrod(
-      "study reduction simeon-crank --no-plot --set damping.type=rayleigh "
-      "--set damping.beta=1e-5 --set sim.capture=0.01s --out " +
-      out.string());
+                     "study reduction simeon-crank --no-plot --set damping.type=rayleigh "
+                     "--set damping.beta=1e-5 --set sim.capture=0.01s --out " +
+                     out.string())
+                     .exit_code;
   ASSERT_EQ(rc, 0);
   std::ifstream csv(out / "table.csv");
   std::string line;
@@ -59,10 +50,10 @@ TEST(StudyReductionCli, EveryVariantIsComparedWithTheExactRod) {
 }
 
 TEST(StudyReductionCli, BadInputIsRefusedBeforeAnyWork) {
-  const fs::path out = TempDir("reduction_bad");
-  EXPECT_EQ(Flexrod("study reduction --within 0 --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("study reduction --set rod.height=-3mm --out " + out.string()), 2);
-  EXPECT_EQ(Flexrod("study reduction no-such-preset.toml --out " + out.string()), 2);
+  const fs::path out = ScratchPath("cli_reduction_bad");
+  EXPECT_EQ(Flexrod("study reduction --within 0 --out " + out.string()).exit_code, 2);
+  EXPECT_EQ(Flexrod("study reduction --set rod.height=-3mm --out " + out.string()).exit_code, 2);
+  EXPECT_EQ(Flexrod("study reduction no-such-preset.toml --out " + out.string()).exit_code, 2);
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "sweep/sweep_store.h"
+#include "tests/test_util.h"
 
 namespace {
 
@@ -31,31 +32,15 @@ using flexrod::study::ReadStore;
 using flexrod::study::SameResults;
 using flexrod::study::SweepStore;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout + stderr
-};
+using flexrod::test::CommandResult;
+using flexrod::test::Flexrod;
+using flexrod::test::Shell;
 
+/// This test process's scratch directory.
 fs::path Dir() {
-  static const fs::path dir = [] {
-    const fs::path d =
-        fs::temp_directory_path() / ("flexrod_sweep_cli_" + std::to_string(getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-  }();
+  static const fs::path dir = flexrod::test::ScratchDir("sweep_cli");
   return dir;
 }
-
-Result Shell(const std::string& command) {
-  const fs::path log = Dir() / "shell.log";
-  const int status = std::system((command + " > " + log.string() + " 2>&1").c_str());
-  std::ifstream in(log);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
-}
-
-Result Flexrod(const std::string& args) { return Shell(std::string(FLEXROD_BINARY) + " " + args); }
 
 std::string Small() { return std::string(FLEXROD_SOURCE_DIR) + "/examples/sweep-small.toml"; }
 
@@ -72,7 +57,7 @@ void ExpectSameStores(const std::string& a, const std::string& b) {
 /// The reference store: sweep-small on one thread. ctest runs every test in its own process,
 /// so the first process to compute it publishes it under a name keyed by the binary and the
 /// matrix (rename: complete or absent), and later processes copy it.
-std::string ReferenceStore(Result* run = nullptr) {
+std::string ReferenceStore(CommandResult* run = nullptr) {
   auto stamp = [](const fs::path& p) {
     struct stat st {};
     stat(p.c_str(), &st);
@@ -87,7 +72,7 @@ std::string ReferenceStore(Result* run = nullptr) {
   std::error_code copied;
   if (!run) fs::copy_file(shared, local, fs::copy_options::overwrite_existing, copied);
   if (!run && !copied && fs::exists(local)) return local;
-  const Result r =
+  const CommandResult r =
       Flexrod("sweep " + Small() + " --jobs 1 " + (run ? "" : "--no-plot ") + "--out " + local);
   if (run) *run = r;
   if (r.exit_code != 0) return local;
@@ -114,7 +99,7 @@ class SweepCli : public ::testing::Test {
 };
 
 TEST_F(SweepCli, SmallSweepCompletesWithTheLoadAmplificationOfEveryRun) {
-  Result run;
+  CommandResult run;
   const std::string reference = ReferenceStore(&run);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("4 runs; 0 already finished; 4 to run on 1 thread"), std::string::npos)
@@ -142,7 +127,7 @@ TEST_F(SweepCli, StoresAreIdenticalWithOneThreadTwoThreadsAndTwoMpiRanks) {
   const std::string reference = ReferenceStore();
   ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
   const std::string two = (Dir() / "two.h5").string();
-  const Result r2 = Flexrod("sweep " + Small() + " --jobs 2 --no-plot --out " + two);
+  const CommandResult r2 = Flexrod("sweep " + Small() + " --jobs 2 --no-plot --out " + two);
   ASSERT_EQ(r2.exit_code, 0) << r2.output;
   ExpectSameStores(reference, two);
   ASSERT_TRUE(fs::exists("/usr/bin/mpirun")) << "Open MPI (Debian openmpi-bin) is needed";
@@ -150,7 +135,7 @@ TEST_F(SweepCli, StoresAreIdenticalWithOneThreadTwoThreadsAndTwoMpiRanks) {
   // -x ASAN_OPTIONS: in a sanitizer build, Open MPI's own allocations in MPI_Init (libmpi,
   // libopen-pal and its plugins) are reported as leaks at exit; the ranks' leak check is off,
   // the rest of the sanitizer stays on (and the thread runs above keep the leak check).
-  const Result rm =
+  const CommandResult rm =
       Shell("mpirun --allow-run-as-root --oversubscribe -x ASAN_OPTIONS=detect_leaks=0 -np 2 " +
             std::string(FLEXROD_BINARY) + " sweep " + Small() + " --no-plot --out " + mpi);
   ASSERT_EQ(rm.exit_code, 0) << rm.output;
@@ -173,7 +158,8 @@ TEST_F(SweepCli, AnErrorOnOneMpiRankAbortsEveryRankAndTheRerunResumes) {
   const std::string sweep =
       std::string(FLEXROD_BINARY) + " sweep " + Small() + " --jobs 1 --no-plot --out " + store;
   // Rank 0 alone fails (a worker commits its parts to a scratch file before sending them).
-  const Result r = Shell(mpirun + "-np 1 env FLEXROD_FAIL_WRITE=2 " + sweep + " : -np 1 " + sweep);
+  const CommandResult r =
+      Shell(mpirun + "-np 1 env FLEXROD_FAIL_WRITE=2 " + sweep + " : -np 1 " + sweep);
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("flexrod: sweep aborted: No space left on device: " + parts.string()),
             std::string::npos)
@@ -183,13 +169,14 @@ TEST_F(SweepCli, AnErrorOnOneMpiRankAbortsEveryRankAndTheRerunResumes) {
   for (const auto& e : fs::directory_iterator(parts)) kept += e.path().extension() == ".h5";
   EXPECT_EQ(kept, 1);
   // A worker's error aborts every rank too, naming the worker.
-  const Result w = Shell(mpirun + "-np 1 " + sweep + " : -np 1 env FLEXROD_FAIL_WRITE=1 " + sweep);
+  const CommandResult w =
+      Shell(mpirun + "-np 1 " + sweep + " : -np 1 env FLEXROD_FAIL_WRITE=1 " + sweep);
   EXPECT_NE(w.exit_code, 0) << w.output;
   EXPECT_NE(w.output.find("flexrod: sweep aborted: rank 1: No space left on device"),
             std::string::npos)
       << w.output;
   EXPECT_FALSE(fs::exists(store));
-  const Result again = Shell(mpirun + "-np 2 " + sweep);
+  const CommandResult again = Shell(mpirun + "-np 2 " + sweep);
   ASSERT_EQ(again.exit_code, 0) << again.output;
   // The part of the first attempt is kept; the second attempt may have added rank 0's own.
   EXPECT_NE(again.output.find(" already finished; "), std::string::npos) << again.output;
@@ -241,7 +228,7 @@ TEST_F(SweepCli, KilledSweepResumesWithoutRecomputingFinishedRuns) {
       finished[e.path().string()] = st;
   }
   ASSERT_LT(finished.size(), 4u);
-  const Result again =
+  const CommandResult again =
       Flexrod("sweep " + Small() + " --jobs 1 --keep-parts --no-plot --out " + store);
   ASSERT_EQ(again.exit_code, 0) << again.output;
   const std::string expected = "4 runs; " + std::to_string(finished.size()) +
@@ -273,7 +260,7 @@ TEST_F(SweepCli, FullDiskAtAPartOrTheStoreLosesNoFinishedRunAndResumes) {
   };
   const std::string sweep = "sweep " + Small() + " --jobs 1 --no-plot --out " + store;
   // The second part fails: the first is kept.
-  Result r = Shell("FLEXROD_FAIL_WRITE=2 " + std::string(FLEXROD_BINARY) + " " + sweep);
+  CommandResult r = Shell("FLEXROD_FAIL_WRITE=2 " + std::string(FLEXROD_BINARY) + " " + sweep);
   EXPECT_EQ(r.exit_code, 3) << r.output;
   EXPECT_NE(r.output.find("No space left on device: " + parts.string()), std::string::npos)
       << r.output;
@@ -301,7 +288,8 @@ TEST_F(SweepCli, FailedRunIsRecordedAndTheSweepGoesOn) {
          "sim.sample_rate = \"10 kHz\"\n[axes]\n"
          "\"sim.max_steps\" = [10, 0]\n";  // run 0 fails: 10 steps do not reach its end
   const std::string store = (Dir() / "failing.h5").string();
-  const Result r = Flexrod("sweep " + matrix.string() + " --jobs 1 --no-plot --out " + store);
+  const CommandResult r =
+      Flexrod("sweep " + matrix.string() + " --jobs 1 --no-plot --out " + store);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("run 0 FAILED"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("sweep: run 1 done"), std::string::npos) << r.output;
@@ -338,7 +326,7 @@ TEST_F(SweepCli, BadMatrixExitsWithCode2AndWritesNothing) {
     const fs::path matrix = Dir() / ("bad" + std::to_string(i) + ".toml");
     std::ofstream(matrix) << cases[i].text;
     const std::string store = (Dir() / ("bad" + std::to_string(i) + ".h5")).string();
-    const Result r = Flexrod("sweep " + matrix.string() + " --no-plot --out " + store);
+    const CommandResult r = Flexrod("sweep " + matrix.string() + " --no-plot --out " + store);
     EXPECT_EQ(r.exit_code, 2) << cases[i].text << r.output;
     EXPECT_NE(r.output.find(cases[i].expect), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(store));
@@ -350,7 +338,7 @@ TEST_F(SweepCli, BadMatrixExitsWithCode2AndWritesNothing) {
 }
 
 TEST_F(SweepCli, DefaultMatrixListsTheTable2Runs) {
-  const Result r = Flexrod("sweep --list");
+  const CommandResult r = Flexrod("sweep --list");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("table2: 189 runs"), std::string::npos);
   EXPECT_NE(r.output.find("  188  rod.material=steel, rod.height=25.4 mm, joint.clearance=1.0 mm, "
@@ -364,21 +352,21 @@ TEST_F(SweepCli, ReaderFindsAUnitOnEveryDatasetAndTheStoredInputRerunsTheRun) {
   ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
   const std::string reader = std::string(FLEXROD_PYTHON) + " " + FLEXROD_SOURCE_DIR +
                              "/examples/read_store.py " + reference;
-  const Result units = Shell(reader + " --check-units");
+  const CommandResult units = Shell(reader + " --check-units");
   ASSERT_EQ(units.exit_code, 0) << units.output;
   EXPECT_NE(units.output.find(" 0 without a unit"), std::string::npos) << units.output;
-  const Result listing = Shell(reader);
+  const CommandResult listing = Shell(reader);
   ASSERT_EQ(listing.exit_code, 0) << listing.output;
   EXPECT_NE(listing.output.find("rod.height=19.05 mm, drive.speed=250 rpm"), std::string::npos)
       << listing.output;
   // Run 2 again from its stored input: the same peak, bit for bit (runs are deterministic).
   const fs::path input = Dir() / "run2.toml";
-  const Result stored_input = Shell(reader + " --input 2");
+  const CommandResult stored_input = Shell(reader + " --input 2");
   ASSERT_EQ(stored_input.exit_code, 0) << stored_input.output;
   EXPECT_NE(stored_input.output.find("\"joint.type\" = \"clearance\""), std::string::npos)
       << stored_input.output;
   std::ofstream(input) << stored_input.output;
-  const Result rerun =
+  const CommandResult rerun =
       Flexrod("run " + input.string() + " --no-plot --out " + (Dir() / "run2").string());
   ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
   std::ifstream in(Dir() / "run2" / "summary.json");
@@ -394,7 +382,7 @@ TEST_F(SweepCli, CompareWritesTheTablesOfEveryComparisonAndItsPlots) {
   const std::string reference = ReferenceStore();
   ASSERT_TRUE(fs::exists(reference)) << "the reference sweep failed";
   const fs::path out = Dir() / "compare";
-  const Result r = Flexrod("compare " + reference + " --group I --out " + out.string());
+  const CommandResult r = Flexrod("compare " + reference + " --group I --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "comparisons.md"));
   for (int n = 1; n <= 12; ++n) {
@@ -430,7 +418,7 @@ TEST_F(SweepCli, CompareWritesTheTablesOfEveryComparisonAndItsPlots) {
   const fs::path cut = Dir() / "cut.h5";
   fs::copy_file(reference, cut, fs::copy_options::overwrite_existing);
   fs::resize_file(cut, fs::file_size(cut) / 2);
-  Result damaged = Flexrod("compare " + cut.string() + " --out " + (Dir() / "c2").string());
+  CommandResult damaged = Flexrod("compare " + cut.string() + " --out " + (Dir() / "c2").string());
   EXPECT_EQ(damaged.exit_code, 2) << damaged.output;
   EXPECT_NE(damaged.output.find("store = " + cut.string()), std::string::npos) << damaged.output;
   const fs::path run = Dir() / "run";
@@ -438,7 +426,7 @@ TEST_F(SweepCli, CompareWritesTheTablesOfEveryComparisonAndItsPlots) {
                     run.string())
                 .exit_code,
             0);
-  const Result foreign =
+  const CommandResult foreign =
       Flexrod("compare " + (run / "run.h5").string() + " --out " + (Dir() / "c2").string());
   EXPECT_EQ(foreign.exit_code, 2) << foreign.output;
   EXPECT_NE(foreign.output.find("is not a flexrod sweep store"), std::string::npos)

@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 
 #include "contact/normal_law.h"
 #include "tests/contact/contact_test_util.h"
+#include "tests/test_util.h"
 
 namespace flexrod::contact {
 namespace {
@@ -19,7 +19,7 @@ namespace {
 using testing::RigGeometry;
 using testing::SteelPair;
 
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 
 TEST(HertzReference, StiffnessMatchesTheContactRadiusSolution) {
   // Johnson 1985 eqs. 4.22–4.23: a³ = 3FR/(4E*), δ = a²/R, here with R = R* (internal).

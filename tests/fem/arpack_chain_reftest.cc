@@ -12,11 +12,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 #include "fem/eigensolver.h"
 #include "tests/fem/arpack_chain.h"
+#include "tests/test_util.h"
 
 namespace flexrod::fem {
 namespace {
@@ -25,7 +25,7 @@ using testing::Chain;
 using testing::FixedFixedChain;
 using testing::FreeFreeChain;
 
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 constexpr double kK = 2.5e5;  // spring stiffness [N/m]
 constexpr double kM = 0.35;   // mass [kg]
 // Closed form vs ARPACK: shift-invert Lanczos at machine-precision tolerance reproduces these

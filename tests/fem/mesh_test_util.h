@@ -9,17 +9,17 @@
 #include <algorithm>
 #include <functional>
 #include <initializer_list>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "common/error.h"
 #include "fem/eigensolver.h"
 #include "fem/rod_mesh.h"
+#include "tests/test_util.h"
 
 namespace flexrod::fem::testing {
 
-inline constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 
 /// The rig's rod (RIG.md Table 1): steel, 280 mm long, 3.175 × 19.05 mm, weak axis in plane.
 inline RodSpec RigRod(int num_elements, BeamTheory theory = BeamTheory::kEulerBernoulli,

@@ -5,7 +5,6 @@
 #include "io/run_writer.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -16,11 +15,13 @@
 #include "input/presets.h"
 #include "io/run_vtk.h"
 #include "run/run.h"
+#include "tests/test_util.h"
 
 namespace flexrod {
 namespace {
 
 namespace fs = std::filesystem;
+using flexrod::test::ScratchPath;
 
 /// Short captures from the index angle at t = 0: 500 samples at 10 kHz.
 std::vector<std::string> Short(std::vector<std::string> more) {
@@ -67,15 +68,8 @@ long Attribute(const std::string& xml, const std::string& attr) {
   return std::stol(m[1].str());
 }
 
-fs::path TempDir(const std::string& name) {
-  fs::path p =
-      fs::temp_directory_path() / ("flexrod_vtk_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
-
 TEST(VtkFiles, CollectionListsEveryFrameFileAndEachFileIsConsistent) {
-  const fs::path dir = TempDir("files") / "vtk";  // the writer creates missing parents
+  const fs::path dir = ScratchPath("vtk_files") / "vtk";  // the writer creates missing parents
   RunOutputOptions o;
   o.record_vtk = true;
   const Config cfg = LoadRunInput("rigid-rig", Short({}));
@@ -143,7 +137,7 @@ TEST(VtkFiles, CollectionListsEveryFrameFileAndEachFileIsConsistent) {
 // output.format selects the channel files; a format not selected leaves none of its files
 // behind from an earlier run in the same directory, and nothing writes VTK without --vtk.
 TEST(RunWriters, WriteWhatIsSelectedAndRemoveWhatAnEarlierRunLeft) {
-  const fs::path dir = TempDir("formats");
+  const fs::path dir = ScratchPath("vtk_formats");
   RunOutputOptions o;
   o.record_vtk = true;  // recorded, but not asked for in files: no --vtk directory
   const Config csv = LoadRunInput("rigid-rig", Short({"output.format=csv"}));
@@ -167,7 +161,7 @@ TEST(RunWriters, WriteWhatIsSelectedAndRemoveWhatAnEarlierRunLeft) {
   for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
   EXPECT_EQ(names, (std::set<std::string>{"resolved.toml", "run.h5", "summary.json"}));
   // Without a run directory only the frames are written (Python's run(vtk=...) without out=).
-  const fs::path frames = TempDir("frames_only");
+  const fs::path frames = ScratchPath("vtk_frames_only");
   WriteRun({"", "", frames.string()}, h5, r);
   std::set<std::string> written;
   for (const auto& e : fs::directory_iterator(frames)) written.insert(e.path().extension());

@@ -15,7 +15,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 #include "../multibody/clearance_fixture.h"
@@ -23,11 +22,12 @@
 #include "contact/impact.h"
 #include "mechanisms/impact_log.h"
 #include "signals/signals.h"
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 
 struct Synthetic {
   double A = 1e-5, T = 1e-4, t0 = 10.3e-6, k = 1e8, D = 0.5;

@@ -16,18 +16,18 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <numbers>
 
 #include "fem/exact_beam.h"
 #include "fem/reduced_rod.h"
 #include "multibody/dae.h"
 #include "multibody/mechanism.h"
 #include "multibody/run_data.h"
+#include "tests/test_util.h"
 
 namespace flexrod::multibody {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 constexpr double kFar = 1e4;  // [m] anchor distance of the dead-load springs
 
 fem::RodSpec SteelRod(int elements) {

@@ -9,16 +9,16 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <numbers>
 #include <random>
 #include <vector>
 
 #include "common/error.h"
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 constexpr Window kAllWindows[] = {Window::kRectangular, Window::kHann, Window::kHamming,
                                   Window::kBlackmanHarris, Window::kFlatTop};
 

@@ -13,11 +13,12 @@
 #include <vector>
 
 #include "common/error.h"
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Crank turning at a constant rate: θ_i = theta0 + omega · i / rate (unwrapped) [rad].

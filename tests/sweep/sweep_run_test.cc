@@ -6,7 +6,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -15,11 +14,13 @@
 
 #include "common/error.h"
 #include "sweep/sweep.h"
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
 
 namespace fs = std::filesystem;
+using flexrod::test::ScratchDir;
 
 // The rigid rig (RIG.md §1) at 101 and 177 rpm with two slider masses: 4 short runs.
 const char* kRigidMatrix = R"(
@@ -35,14 +36,6 @@ sim.sample_rate = "10 kHz"
 "drive.speed" = ["101 rpm", "177 rpm"]
 "slider.mass" = ["1.02 kg", "1.5 kg"]
 )";
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("flexrod_sweep_run_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 SweepMatrix Matrix(const char* text, const std::vector<std::string>& sets = {}) {
   return ParseSweepMatrix(text, "test.toml", ".", sets);
@@ -116,7 +109,7 @@ base = "flexible-rig"
 }
 
 TEST(SweepRun, StoreDoesNotDependOnTheNumberOfThreads) {
-  const fs::path dir = TempDir("threads");
+  const fs::path dir = ScratchDir("sweep_run_threads");
   const SweepMatrix m = Matrix(kRigidMatrix);
   SweepOptions one, two;
   one.jobs = 1;
@@ -147,7 +140,7 @@ TEST(SweepRun, StoreDoesNotDependOnTheNumberOfThreads) {
 }
 
 TEST(SweepRun, AFailedRunIsRecordedAndTheSweepGoesOn) {
-  const fs::path dir = TempDir("failed");
+  const fs::path dir = ScratchDir("sweep_run_failed");
   // A budget of 10 steps does not reach the end of the run: it fails, keeping what it computed.
   const SweepMatrix m = Matrix(R"(
 [sweep]
@@ -179,7 +172,7 @@ sim.sample_rate = "10 kHz"
 }
 
 TEST(SweepRun, ResumedSweepSkipsFinishedRunsAndEndsWithTheSameStore) {
-  const fs::path dir = TempDir("resume");
+  const fs::path dir = ScratchDir("sweep_run_resume");
   const SweepMatrix m = Matrix(kRigidMatrix);
   const std::string store = (dir / "r.h5").string();
   struct stat before {};
@@ -236,7 +229,7 @@ TEST(SweepRun, ResumedSweepSkipsFinishedRunsAndEndsWithTheSameStore) {
 }
 
 TEST(SweepRun, ASecondSweepOnTheSameStoreIsRefused) {
-  const fs::path dir = TempDir("lock");
+  const fs::path dir = ScratchDir("sweep_run_lock");
   const SweepMatrix m = Matrix(kRigidMatrix);
   SweepSession first(m, (dir / "x.h5").string());
   try {
@@ -250,7 +243,7 @@ TEST(SweepRun, ASecondSweepOnTheSameStoreIsRefused) {
 }
 
 TEST(SweepRun, AFileThatIsNotAStoreIsNeverOverwritten) {
-  const fs::path dir = TempDir("notastore");
+  const fs::path dir = ScratchDir("sweep_run_notastore");
   std::ofstream(dir / "notes.h5") << "my notes";
   try {
     SweepSession session(Matrix(kRigidMatrix), (dir / "notes.h5").string());
@@ -263,7 +256,7 @@ TEST(SweepRun, AFileThatIsNotAStoreIsNeverOverwritten) {
 }
 
 TEST(SweepRun, UnknownStoreChannelIsRefusedBeforeAnythingIsWritten) {
-  const fs::path dir = TempDir("badchannel");
+  const fs::path dir = ScratchDir("sweep_run_badchannel");
   const SweepMatrix m = Matrix(kRigidMatrix, {"store.channels=crank_angle,slider_jerk"});
   try {
     RunSweep(m, (dir / "b.h5").string(), SweepOptions{});

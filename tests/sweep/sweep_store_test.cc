@@ -9,20 +9,20 @@
 #include "sweep/sweep_store.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 
 #include "common/error.h"
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
+using flexrod::test::kPi;
+using flexrod::test::ScratchDir;
 constexpr double kRate = 1000.0;        // Hz
 constexpr double kRevPerS = 5.0;        // crank speed [rev/s]
 constexpr double kA = 100.0;            // m/s^2
@@ -64,14 +64,6 @@ StoreOptions Options() {
   o.rate = 250.0;  // decimation 4
   o.spectrum_max = 100.0;
   return o;
-}
-
-fs::path TempDir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("flexrod_sweep_store_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
 }
 
 TEST(SweepStore, AmplificationOfADoubledAccelerationIsExactlyTwo) {
@@ -165,7 +157,7 @@ TEST(SweepStore, AFailedRunKeepsItsMessageAndWhatItComputed) {
 }
 
 TEST(SweepStore, PartFileRoundTripIsBitIdenticalWithInputsAsAttributes) {
-  const fs::path dir = TempDir("part");
+  const fs::path dir = ScratchDir("sweep_store_part");
   StoredRun s = AnalyseRun(RigConfig(), SyntheticRun(), Options());
   s.id = 7;
   s.label = "drive.speed=300 rpm";
@@ -203,7 +195,7 @@ TEST(SweepStore, PartFileRoundTripIsBitIdenticalWithInputsAsAttributes) {
 }
 
 TEST(SweepStore, StoreRoundTripKeepsRunOrderAndCountsFailures) {
-  const fs::path dir = TempDir("store");
+  const fs::path dir = ScratchDir("sweep_store_store");
   std::vector<StoredRun> runs;
   runs.push_back(AnalyseRun(RigConfig(), SyntheticRun(), Options()));
   // A message longer than an HDF5 object header (64 KiB) is stored in pieces and read back whole.
