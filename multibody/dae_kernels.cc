@@ -97,11 +97,8 @@ void UpdateStrainDamping(const Body& b, const CMap& qd, BodyScratch* s) {
   AddStrainGradient(b, s->damping_eta, s, &s->Dqd);
 }
 
-}  // namespace
-
-// `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
-// refreshes them itself): output samples at 100 kHz need the kinematics and the energies only.
-void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s, bool dynamics) {
+// A(θ) of the body at pb.
+void UpdateOrientation(const double* pb, BodyScratch* s) {
   const double th = pb[kTheta];
   if (th != s->trig_theta) {  // a held or prescribed angle repeats: skip the trigonometry
     s->cos_theta = std::cos(th);
@@ -109,6 +106,14 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
     s->trig_theta = th;
   }
   s->A << s->cos_theta, -s->sin_theta, s->sin_theta, s->cos_theta;
+}
+
+}  // namespace
+
+// `dynamics` false skips D q̇ and S̃ q̇, which only the residual and the Jacobian read (each
+// refreshes them itself): output samples at 100 kHz need the kinematics and the energies only.
+void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* s, bool dynamics) {
+  UpdateOrientation(pb, s);
   s->s = b.S0;
   const int n = b.num_modes;
   if (n == 0) return;
@@ -235,6 +240,14 @@ void UpdateMarker(const Mechanism& model, int mi, RunData* data, const double* p
   ms.kin.angle = phi;
   ms.kin.angular_velocity = omega;
   ms.conv_acc = -ms.Au * (thd * thd) + 2.0 * thd * Jm(ms.ASqd);  // a_v = A(−ūθ̇² + 2JS_uq̇θ̇)
+}
+
+void UpdateMarkerAlone(const Mechanism& model, int mi, RunData* data, const double* p,
+                       const double* v) {
+  const int body = model.markers()[mi].body;
+  if (body < 0) return;  // a ground marker's kinematics are set once
+  UpdateOrientation(p + model.bodies()[body].coordinate_offset, &data->bodies[body]);
+  UpdateMarker(model, mi, data, p, v);
 }
 
 void UpdateAll(const Mechanism& model, RunData* data, const double* p, const double* v,

@@ -40,6 +40,12 @@ void FillQuadraticVelocity(const Body& b, const BodyScratch& s, const double* vb
 void UpdateAll(const Mechanism& model, RunData* data, const double* p, const double* v,
                bool dynamics = true);
 
+// One marker's kinematics at (p, v), its body's orientation refreshed first and nothing else
+// (UpdateMarker reads only A(θ) of the body): a query of one marker (SampleView::Marker) does
+// not need every body's modal products and every marker. A ground marker's are set once.
+void UpdateMarkerAlone(const Mechanism& model, int mi, RunData* data, const double* p,
+                       const double* v);
+
 // Jr, Jφ, C = ∂(Jr v)/∂p and A S_u of a body marker at the current state.
 void FillMarkerJacobian(const Mechanism& model, int mi, RunData* data, const double* v);
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "multibody/dae.h"
+#include "multibody/dae_kernels.h"
 #include "multibody/outputs.h"
 #include "multibody/simulate.h"
 
@@ -21,7 +22,12 @@ void SampleView::Ready() const {
 }
 
 const MarkerKinematics& SampleView::Marker(MarkerId m) const {
-  Ready();
+  // Before a full update, this marker alone: the impact log asks for a clearance joint's two
+  // markers at a solution point and at the points of a search inside each step of an impact.
+  if (!ready_) {
+    model_.marker(m);  // (range-checked)
+    dae_kernels::UpdateMarkerAlone(model_, m.index, data_, y_, y_ + model_.num_coordinates());
+  }
   return MarkerState(*data_, m);
 }
 Vec2 SampleView::MarkerAcceleration(MarkerId m) const {

@@ -177,6 +177,8 @@ class SampleView {
   double coordinate(int i) const { return y_[i]; }                                ///< p_i
   double velocity(int i) const { return y_[model_.num_coordinates() + i]; }       ///< v_i
   double acceleration(int i) const { return yp_[model_.num_coordinates() + i]; }  ///< v̇_i
+  /// Marker m's kinematics. Asked before any query that needs the whole update, it refreshes
+  /// marker m alone: its body's orientation and the marker, not every body and marker.
   const MarkerKinematics& Marker(MarkerId m) const;
   Vec2 MarkerAcceleration(MarkerId m) const;
   JointReaction Reaction(JointId j) const;

@@ -12,6 +12,9 @@
 #include "mb_test_util.h"
 #include "multibody/dae.h"
 #include "multibody/mechanism.h"
+#include "multibody/outputs.h"
+#include "multibody/run_data.h"
+#include "multibody/simulate.h"
 
 namespace flexrod::multibody {
 namespace {
@@ -243,23 +246,67 @@ TEST(FfrfBody, FrequencyBandDampingAssignsRatiosByBand) {
   EXPECT_EQ(kBandHighRatio, 1.0);
 }
 
-// A node marker is ReducedRod::Marker(node, offset): ū = ū₀,k + d, S_u = S_u,k + J d S_φ,k.
-TEST(FfrfBody, NodeMarkerCarriesTheNodeMotion) {
-  auto rod = MakeSyntheticRod(kModes, kPoints, 42);
+// The synthetic rod alone, with a marker at node 3 offset by d.
+struct NodeMarkerRod {
+  std::shared_ptr<fem::ReducedRod> rod;
+  Mechanism model;
+  MarkerId marker;
+};
+NodeMarkerRod MakeNodeMarkerRod(const Vec2& d) {
+  NodeMarkerRod r;
+  r.rod = MakeSyntheticRod(kModes, kPoints, 42);
   MechanismBuilder b;
   FlexibleBodySpec s;
   s.name = "rod";
-  s.rod = rod;
-  const BodyId body = b.AddFlexibleBody(s);
+  s.rod = r.rod;
+  r.marker = b.AddNodeMarker(b.AddFlexibleBody(s), "m", 3, d);
+  r.model = b.Build();
+  return r;
+}
+
+// A node marker is ReducedRod::Marker(node, offset): ū = ū₀,k + d, S_u = S_u,k + J d S_φ,k.
+TEST(FfrfBody, NodeMarkerCarriesTheNodeMotion) {
   const Vec2 d(0.01, -0.02);
-  const MarkerId mk = b.AddNodeMarker(body, "m", 3, d);
-  const Mechanism model = b.Build();
-  const Marker& m = model.marker(mk);
+  const NodeMarkerRod r = MakeNodeMarkerRod(d);
+  const auto& rod = r.rod;
+  const Marker& m = r.model.marker(r.marker);
   EXPECT_EQ(m.node, 3);
   EXPECT_LE((m.position - (rod->nodes[3].position + d)).norm(), 1e-15);
   const Mat2X expected_Su = rod->nodes[3].S_u + Jmat() * d * rod->nodes[3].S_phi;
   EXPECT_LE((m.S_u - expected_Su).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_LE((m.S_phi - rod->nodes[3].S_phi).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// SampleView::Marker before any other query refreshes that marker alone (its body's A(θ), then
+// the marker), from scratch left at another state: the kinematics of the full update, and of
+// r = R + A(ū + S_u q), ṙ = Ṙ + θ̇ J A(ū + S_u q) + A S_u q̇, φ = θ + φ̄ + S_φ q.
+TEST(FfrfBody, AMarkerQueriedAloneHasTheKinematicsOfTheFullUpdate) {
+  const NodeMarkerRod r = MakeNodeMarkerRod(Vec2(0.01, -0.02));
+  const Mechanism& model = r.model;
+  const MarkerId mk = r.marker;
+  const int n = model.size(), np = model.num_coordinates();
+  std::mt19937 gen(7);
+  const Vec y = RandomVec(n, gen, 0.3), other = RandomVec(n, gen, 0.3), yp = Vec::Zero(n);
+  RunData data(model);
+  UpdateKinematics(model, &data, other.data());
+  const MarkerKinematics alone = SampleView(model, &data, 0.0, y.data(), yp.data()).Marker(mk);
+  UpdateKinematics(model, &data, y.data());
+  const MarkerKinematics& full = MarkerState(data, mk);
+  EXPECT_EQ(alone.position, full.position);
+  EXPECT_EQ(alone.velocity, full.velocity);
+  EXPECT_EQ(alone.angle, full.angle);
+  EXPECT_EQ(alone.angular_velocity, full.angular_velocity);
+
+  const Marker& m = model.marker(mk);
+  const Vec q = y.segment(kFirstMode, kModes), qd = y.segment(np + kFirstMode, kModes);
+  const Mat2 A = Rot(y[kTheta]);
+  const Vec2 u = m.position + m.S_u * q;
+  EXPECT_LE((alone.position - (Vec2(y[kX], y[kY]) + A * u)).norm(), 1e-14);
+  EXPECT_LE((alone.velocity -
+             (Vec2(y[np + kX], y[np + kY]) + y[np + kTheta] * Jmat() * A * u + A * m.S_u * qd))
+                .norm(),
+            1e-14);
+  EXPECT_NEAR(alone.angle, y[kTheta] + m.angle + m.S_phi.dot(q), 1e-14);
 }
 
 }  // namespace
