@@ -74,12 +74,11 @@ void ImpactLogger::ObservePeak(double time, double normal_force, double penetrat
 LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b) {
   const double width = b - a, d = 1e-4 * width;
   const double fa = f(a), fb = f(b), m = 0.5 * (a + b), fm = f(m);
-  // A maximum lies inside if f rises from a and falls into b (one-sided differences over 1e-4
-  // of the step), or if the midpoint beats both ends.
-  const bool rises = f(a + d) > fa, falls = f(b - d) > fb;
-  if (!(rises && falls) && !(fm > std::max(fa, fb))) {
-    return {a, -std::numeric_limits<double>::infinity()};
-  }
+  // A maximum lies inside if the midpoint beats both ends, or if f rises from a and falls into b
+  // (one-sided differences over 1e-4 of the step), each difference evaluated only when needed:
+  // inside an impact this runs at every step, and most steps rise or fall throughout.
+  const bool inside = fm > std::max(fa, fb) || (f(a + d) > fa && f(b - d) > fb);
+  if (!inside) return {a, -std::numeric_limits<double>::infinity()};
   // Brent's method (R. P. Brent, Algorithms for Minimization without Derivatives, 1973, ch. 5)
   // on −f: a parabola through the three best points x (best), w (second), v (third) gives the
   // next point when it falls inside the bracket and moves less than half the step before last;
@@ -135,8 +134,8 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
 void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
                        ImpactLogger* log) {
   if (!log->in_impact()) return;
-  // Both searches test the same five points (ends, midpoint, one-sided differences): the
-  // second reads the first's responses instead of evaluating the joint again.
+  // Both searches test the same points (ends, midpoint, the one-sided differences they need):
+  // the second reads the first's responses instead of evaluating the joint again.
   std::array<std::pair<double, multibody::ClearanceResponse>, 5> seen;
   std::size_t num_seen = 0;
   auto response = [&](double t) {
