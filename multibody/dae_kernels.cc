@@ -244,8 +244,8 @@ void UpdateMarker(const Mechanism& model, int mi, RunData* data, const double* p
 
 void UpdateMarkerAlone(const Mechanism& model, int mi, RunData* data, const double* p,
                        const double* v) {
-  const int body = model.markers()[mi].body;
-  if (body < 0) return;  // a ground marker's kinematics are set once
+  const int body = model.markers().at(mi).body;  // a bad index throws, as MarkerState does
+  if (body < 0) return;                          // a ground marker's kinematics are set once
   UpdateOrientation(p + model.bodies()[body].coordinate_offset, &data->bodies[body]);
   UpdateMarker(model, mi, data, p, v);
 }

@@ -25,7 +25,6 @@ const MarkerKinematics& SampleView::Marker(MarkerId m) const {
   // Before a full update, this marker alone: the impact log asks for a clearance joint's two
   // markers at a solution point and at the points of a search inside each step of an impact.
   if (!ready_) {
-    model_.marker(m);  // (range-checked)
     dae_kernels::UpdateMarkerAlone(model_, m.index, data_, y_, y_ + model_.num_coordinates());
   }
   return MarkerState(*data_, m);

@@ -50,7 +50,6 @@ inline CommandResult Shell(const std::string& command) {
   return r;
 }
 
-#ifdef FLEXROD_BINARY
 /// Runs the built flexrod with `args` (shell words, quoted as the shell needs).
 inline CommandResult Flexrod(const std::string& args) {
   std::string command = FLEXROD_BINARY;  // (appended, not `+`: GCC 12 -Warray-bounds, PR 105329)
@@ -58,6 +57,5 @@ inline CommandResult Flexrod(const std::string& args) {
   command += args;
   return Shell(command);
 }
-#endif
 
 }  // namespace flexrod::test

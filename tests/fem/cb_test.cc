@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Craig–Bampton and the other reductions: properties that pin them.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -10,6 +9,7 @@
 #include "common/error.h"
 #include "fem/eigensolver.h"
 #include "fem/reduced_rod.h"
+#include "tests/test_util.h"
 
 namespace flexrod::fem {
 namespace {
@@ -225,9 +225,7 @@ TEST(StrainGauge, CantileverTipLoadGivesBeamTheoryStrain) {
 TEST(ReducedRodFile, RoundTripKeepsEverything) {
   const RodSpec rod = RodWithClamp(12);
   const ReducedRod r = Reduce(rod, MechanismReduction(rod, ReductionMethod::kCraigBampton, 4));
-  const std::string path = (std::filesystem::temp_directory_path() /
-                            ("flexrod_rr_test_" + std::to_string(::getpid()) + ".h5"))
-                               .string();
+  const std::string path = flexrod::test::ScratchPath("rr_test.h5").string();
   WriteReducedRod(r, path);
   const ReducedRod back = ReadReducedRod(path);
   std::remove(path.c_str());

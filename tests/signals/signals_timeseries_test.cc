@@ -14,15 +14,16 @@
 
 #include "common/error.h"
 #include "signals/timeseries.h"
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
 
 namespace fs = std::filesystem;
 
+/// A file in this test process's scratch directory.
 fs::path TempPath(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "flexrod_signals_timeseries";
-  fs::create_directories(dir);
+  static const fs::path dir = flexrod::test::ScratchDir("signals_timeseries");
   return dir / name;
 }
 

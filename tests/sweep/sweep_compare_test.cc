@@ -6,12 +6,13 @@
 #include "sweep/sweep_compare.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "tests/test_util.h"
 
 namespace flexrod::study {
 namespace {
@@ -192,9 +193,7 @@ TEST(SweepCompare, AnOrderWithinTheScatterOfTheSpeedsIsNotResolved) {
 }
 
 TEST(SweepCompare, FilesHoldTheRankingTheVerdictAndThePoints) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("flexrod_sweep_compare_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = flexrod::test::ScratchDir("sweep_compare");
   const std::vector<StoredRun> runs = {
       RodRun(0, "steel", "12.7 mm", "0.5 mm", "100 rpm", {-30, -50}),
       RodRun(1, "steel", "19.05 mm", "0.5 mm", "100 rpm", {-20})};
