@@ -76,8 +76,13 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
   const double fa = f(a), fb = f(b), m = 0.5 * (a + b), fm = f(m);
   // A maximum lies inside if the midpoint beats both ends, or if f rises from a and falls into b
   // (one-sided differences over 1e-4 of the step), each difference evaluated only when needed:
-  // inside an impact this runs at every step, and most steps rise or fall throughout.
-  const bool inside = fm > std::max(fa, fb) || (f(a + d) > fa && f(b - d) > fb);
+  // inside an impact this runs at every step, and most steps rise or fall throughout. The end
+  // the step climbs to is tested first (a step that rises throughout does not fall into b, one
+  // that falls throughout does not rise from a), so such a step costs one difference.
+  auto rises_then_falls = [&] {
+    return fb > fa ? f(b - d) > fb && f(a + d) > fa : f(a + d) > fa && f(b - d) > fb;
+  };
+  const bool inside = fm > std::max(fa, fb) || rises_then_falls();
   if (!inside) return {a, -std::numeric_limits<double>::infinity()};
   // Brent's method (R. P. Brent, Algorithms for Minimization without Derivatives, 1973, ch. 5)
   // on −f: a parabola through the three best points x (best), w (second), v (third) gives the

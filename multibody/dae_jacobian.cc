@@ -250,13 +250,14 @@ void ChainElementJacobian(const Mechanism& model, const RunData& data, const Ele
       const Mat& Kv = si == 0 ? es.Kv_i : es.Kv_j;
       es.T.topLeftCorner(3, nbi).noalias() = es.Do.block(3 * so, 6 * si, 3, 6) * Kp;
       J.block(ro, bi.coordinate_offset, nbo, nbi).noalias() -=
-          Gen.transpose() * es.T.topLeftCorner(3, nbi);
+          Gen.transpose().lazyProduct(es.T.topLeftCorner(3, nbi));
       es.T.topLeftCorner(3, nbi).noalias() = es.Do.block(3 * so, 6 * si, 3, 6) * Kv;
       J.block(ro, np + bi.coordinate_offset, nbo, nbi).noalias() -=
-          Gen.transpose() * es.T.topLeftCorner(3, nbi);
+          Gen.transpose().lazyProduct(es.T.topLeftCorner(3, nbi));
     }
     if (ns > 0) {
-      J.block(ro, zcol, nbo, ns).noalias() -= Gen.transpose() * es.Dz.block(3 * so, 0, 3, ns);
+      J.block(ro, zcol, nbo, ns).noalias() -=
+          Gen.transpose().lazyProduct(es.Dz.block(3 * so, 0, 3, ns));
     }
     AddMarkerHessian(model, marker[so], data, F0[so], -1.0,
                      J.block(ro, bo.coordinate_offset, nbo, nbo));

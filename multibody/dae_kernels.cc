@@ -68,8 +68,8 @@ void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
     }
     s->strain_coef.noalias() = b.element_strain_basis.transpose() * s->element_short;
   }
-  s->strain_force.noalias() = b.strain_elongation * q;
-  s->strain_force = k * (s->strain_force + s->strain_coef);
+  s->strain_force =
+      k * (s->q_products.tail(s->strain_coef.size()) + s->strain_coef);  // k (W q + σ)
   s->Fg.noalias() = k * (b.strain_elongation.transpose() * s->strain_coef);
   AddStrainGradient(b, s->strain_force, s, &s->Fg);
 }
@@ -118,12 +118,13 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   const int n = b.num_modes;
   if (n == 0) return;
   CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
-  s->s.noalias() += b.Sbar * q;
-  s->w = b.I1;
-  s->w.noalias() += b.Mff * q;
-  s->c = b.Ibar;
-  s->c.noalias() += b.Stilde * q;
-  s->Kq.noalias() = b.K * q;
+  // One product for S̄ q, M_ff q, S̃ q, K q (and W q): each row's sum in the same order as
+  // separate products, one call instead of four or five.
+  s->q_products.noalias() = b.q_products * q;
+  s->s += s->q_products.head<2>();
+  s->w = b.I1 + s->q_products.segment(2, n);
+  s->c = b.Ibar + s->q_products.segment(2 + n, n);
+  s->Kq = s->q_products.segment(2 + 2 * n, n);
   s->Fg.setZero();
   // Output samples (dynamics false) need ½ qᵀKq only, not F_g.
   if (b.geometric_stiffening && dynamics) {
@@ -131,12 +132,13 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
     s->Kq += s->Fg;
   }
   if (!dynamics) return;
+  s->qd_products.noalias() = b.qd_products * qd;
+  s->Sqd = s->qd_products.head(n);
   if (b.strain_damping) {
     UpdateStrainDamping(b, qd, s);
   } else {
-    s->Dqd.noalias() = b.D * qd;
+    s->Dqd = s->qd_products.tail(n);
   }
-  s->Sqd.noalias() = b.Stilde * qd;
 }
 
 // With Hq = [H_k q], Hv = [H_k q̇] (n × r):

@@ -113,6 +113,21 @@ void SetSecondOrderStrain(const fem::ReducedRod& rod, FlexibleBodySpec::StrainKe
       kernel == Kernel::kModal || (kernel == Kernel::kAuto && r * n <= 8 * (ne + 1));
 }
 
+/// Body::q_products and qd_products from S̄, M_ff, S̃, K, W and D.
+void StackModalProducts(Body* b) {
+  const int n = b->num_modes;
+  const Eigen::Index r = b->geometric_stiffening ? b->strain_elongation.rows() : 0;
+  b->q_products.resize(2 + 3 * n + r, n);
+  b->q_products.topRows(2 + 3 * n) << b->Sbar, b->Mff, b->Stilde, b->K;
+  if (r > 0) b->q_products.bottomRows(r) = b->strain_elongation;
+  b->qd_products.resize(b->strain_damping ? n : 2 * n, n);
+  if (b->strain_damping) {
+    b->qd_products = b->Stilde;
+  } else {
+    b->qd_products << b->Stilde, b->D;
+  }
+}
+
 /// D from the damping specification, and the body's own modal frequencies and damping ratios
 /// (eigenproblem K φ = ω² M_ff φ of the reduced body).
 void SetDamping(const FlexibleBodySpec& spec, Body* b) {
@@ -271,6 +286,7 @@ BodyId MechanismBuilder::AddFlexibleBody(const FlexibleBodySpec& spec) {
   SetDamping(spec, &b);
   b.strain_damping = b.geometric_stiffening && b.element_strain_basis.cols() > 0 &&
                      b.D.size() > 0 && b.D.cwiseAbs().maxCoeff() > 0.0;
+  StackModalProducts(&b);
   b.qq_mask.assign(n, std::vector<bool>(n, false));
   MarkMask(b.Mff, &b.qq_mask);
   MarkMask(b.Stilde, &b.qq_mask);

@@ -211,6 +211,10 @@ struct Body {
   /// ζ_i used (modal kinds) [-]; empty for kMatrix (its ratios belong to whoever made D).
   Vec modal_damping_ratios;
   std::shared_ptr<const fem::ReducedRod> rod;  ///< null for rigid bodies
+  /// UpdateBody's products with q as one matrix-vector product: the rows of S̄ (2), M_ff, S̃, K
+  /// (n each) and, with geometric stiffening, W (r), stacked ((2 + 3n + r) × n); and with q̇:
+  /// S̃ and, unless strain_damping, D (StackModalProducts).
+  Mat q_products, qd_products;
   /// Structural non-zero mask of the q–q block (union of M_ff, S̃, K, D; dense with
   /// geometric stiffening), for the sparse Jacobian pattern.
   std::vector<std::vector<bool>> qq_mask;

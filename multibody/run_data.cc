@@ -45,6 +45,8 @@ void ResizeBodyScratch(const Body& b, BodyScratch* s) {
   s->damping_row = RowVec::Zero(nj);
   s->Dqd = Vec::Zero(n);
   s->Sqd = Vec::Zero(n);
+  s->q_products = Vec::Zero(b.q_products.rows());
+  s->qd_products = Vec::Zero(b.qd_products.rows());
   s->M = Mat::Zero(nb, nb);
   s->Qv = Vec::Zero(nb);
   s->tmp = Vec::Zero(nb);

@@ -44,20 +44,21 @@ struct BodyScratch {
   Vec damping_g;        ///< D v (n) [N]
   Vec damping_eta;      ///< η = Bᵀ D v (r) [N]
   // Jacobian only.
-  Mat strain_hd;          ///< [H_k q̇] (n × r) [m/s]
-  Vec kg_weights;         ///< c + η, the weights of Σ_k H_k (r) [N]
-  Mat Jg;                 ///< ∂(F_g + F_d)/∂q (n × n)
-  RowVec stiffening_row;  ///< q̇ᵀ ∂F_g/∂q (1 × n) [N/s]
-  Mat strain_map;         ///< C = I + B [H_k q]ᵀ (n × n)
-  Mat dmap, bsd;          ///< n × n work
-  Mat Jkv_q, Jkv_qd;      ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n)
-  RowVec damping_row;     ///< q̇ᵀ ∂F_d/∂q (1 × n) [N/s]
-  Vec Dqd;                ///< D q̇ (n) [N]
-  Vec Sqd;                ///< S̃ q̇ (n)
-  Mat M;                  ///< mass matrix (nb × nb)
-  Vec Qv;                 ///< quadratic-velocity vector (nb)
-  Vec tmp;                ///< nb
-  Mat2X AS;               ///< A S̄ (2×n), Jacobian only
+  Mat strain_hd;                ///< [H_k q̇] (n × r) [m/s]
+  Vec kg_weights;               ///< c + η, the weights of Σ_k H_k (r) [N]
+  Mat Jg;                       ///< ∂(F_g + F_d)/∂q (n × n)
+  RowVec stiffening_row;        ///< q̇ᵀ ∂F_g/∂q (1 × n) [N/s]
+  Mat strain_map;               ///< C = I + B [H_k q]ᵀ (n × n)
+  Mat dmap, bsd;                ///< n × n work
+  Mat Jkv_q, Jkv_qd;            ///< ∂F_d/∂q, ∂F_d/∂q̇ − D (n × n)
+  RowVec damping_row;           ///< q̇ᵀ ∂F_d/∂q (1 × n) [N/s]
+  Vec Dqd;                      ///< D q̇ (n) [N]
+  Vec Sqd;                      ///< S̃ q̇ (n)
+  Vec q_products, qd_products;  ///< Body::q_products q, Body::qd_products q̇
+  Mat M;                        ///< mass matrix (nb × nb)
+  Vec Qv;                       ///< quadratic-velocity vector (nb)
+  Vec tmp;                      ///< nb
+  Mat2X AS;                     ///< A S̄ (2×n), Jacobian only
 };
 
 /// World kinematics of a marker at the current state plus its Jacobian pieces.
