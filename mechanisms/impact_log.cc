@@ -140,21 +140,29 @@ void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::Elemen
                        ImpactLogger* log) {
   if (!log->in_impact()) return;
   // Both searches test the same points (ends, midpoint, the one-sided differences they need):
-  // the second reads the first's responses instead of evaluating the joint again.
-  std::array<std::pair<double, multibody::ClearanceResponse>, 5> seen;
+  // the second reads the first's values instead of evaluating the joint again. The step starts
+  // at the solution point the log saw last: its force and penetration are known.
+  struct Point {
+    double t, force, depth;
+  };
+  std::array<Point, 5> seen;
   std::size_t num_seen = 0;
-  auto response = [&](double t) {
+  const ContactPoint& start = log->last_point();
+  if (start.time == step.t_begin())
+    seen[num_seen++] = {start.time, start.normal_force, start.penetration};
+  auto at = [&](double t) {
     for (std::size_t i = 0; i < num_seen; ++i) {
-      if (seen[i].first == t) return seen[i].second;
+      if (seen[i].t == t) return seen[i];
     }
     const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(step.At(t), joint);
-    if (num_seen < seen.size()) seen[num_seen++] = {t, r};
-    return r;
+    const Point p{t, r.normal_force, r.kinematics.penetration};
+    if (num_seen < seen.size()) seen[num_seen++] = p;
+    return p;
   };
-  const LocatedMaximum force = LocateInteriorMaximum(
-      [&](double t) { return response(t).normal_force; }, step.t_begin(), step.t_end());
-  const LocatedMaximum depth = LocateInteriorMaximum(
-      [&](double t) { return response(t).kinematics.penetration; }, step.t_begin(), step.t_end());
+  const LocatedMaximum force =
+      LocateInteriorMaximum([&](double t) { return at(t).force; }, step.t_begin(), step.t_end());
+  const LocatedMaximum depth =
+      LocateInteriorMaximum([&](double t) { return at(t).depth; }, step.t_begin(), step.t_end());
   if (force.value > 0.0) log->ObservePeak(force.t, force.value, 0.0);
   if (depth.value > 0.0) log->ObservePeak(depth.t, 0.0, depth.value);
 }

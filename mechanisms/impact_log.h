@@ -76,7 +76,8 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
 /// Inside an open impact of `log`, locates the peak normal force and penetration of the
 /// clearance joint `joint` within the integrator's step (LocateInteriorMaximum on its
 /// interpolating polynomial) and offers them (ObservePeak): the solution points alone gave
-/// peaks up to 5e-4 low. Does nothing outside an impact.
+/// peaks up to 5e-4 low. The step's start is the solution point the log saw last, whose force
+/// and penetration it takes from there. Does nothing outside an impact.
 class ImpactLogger;
 void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
                        ImpactLogger* log);
@@ -88,6 +89,8 @@ class ImpactLogger {
   void Observe(const ContactPoint& p);
   /// True between a located onset and its separation.
   bool in_impact() const { return is_open_; }
+  /// The last point offered (meaningful once one has been).
+  const ContactPoint& last_point() const { return last_; }
   /// A peak located between solution points (LocateImpactPeaks): raises the open impact's
   /// peak force and penetration if it is later than its onset and higher.
   void ObservePeak(double time, double normal_force, double penetration);
