@@ -246,11 +246,14 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
 
 int CalcElementRoots(const Mechanism& model, RunData* data, double t, const double* y, double* g) {
   if (model.num_element_roots() == 0) return 0;
-  UpdateKinematics(model, data, y);
   const double* z = y + model.z_offset();
   const double* memory = data->element_memory.data();
   for (const ElementSlot& e : model.elements()) {
     if (e.num_roots == 0) continue;
+    // The root functions read the two markers' kinematics only: those, not every body's modal
+    // products (IDA evaluates the roots at every step and inside every root search).
+    dae_kernels::UpdateMarkerAlone(model, e.marker_i, data, y, y + model.num_coordinates());
+    dae_kernels::UpdateMarkerAlone(model, e.marker_j, data, y, y + model.num_coordinates());
     e.element->Roots(t, data->markers[e.marker_i].kin, data->markers[e.marker_j].kin,
                      z + e.state_offset, memory + e.memory_offset, g + e.root_offset);
   }
