@@ -116,6 +116,7 @@ void SetSecondOrderStrain(const fem::ReducedRod& rod, FlexibleBodySpec::StrainKe
 /// Body::q_products and qd_products from S̄, M_ff, S̃, K, W and D.
 void StackModalProducts(Body* b) {
   const int n = b->num_modes;
+  if (n == 0) return;  // UpdateBody has no modal products to take
   const Eigen::Index r = b->geometric_stiffening ? b->strain_elongation.rows() : 0;
   b->q_products.resize(2 + 3 * n + r, n);
   b->q_products.topRows(2 + 3 * n) << b->Sbar, b->Mff, b->Stilde, b->K;
