@@ -74,7 +74,7 @@ double WrmsNormMask(N_Vector x, N_Vector w, N_Vector id) {
 }
 
 // z (+)= Σ_{l<M} c_l X_l, each element summed in index order in a register: z = c₀ X₀ + … when
-// `first`, else z + c₀ X₀ + …. M is a compile-time count, so the loop has no branch.
+// `first`, else z + c₀ X₀ + …. M is a compile-time count, so the inner sum is unrolled.
 template <int M>
 void AccumulatePass(bool first, const double* c, N_Vector* X, double* zd, sunindextype n) {
   const double* x[M];
