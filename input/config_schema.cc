@@ -407,7 +407,9 @@ const std::vector<ParamDef>& Schema() {
        K::kChoice,
        D::kDimensionless,
        "auto",
-       "linear solver",
+       "linear solver of the integrator's Newton iterations: auto = the dense LU when the "
+       "iteration matrix is at least 20 % non-zero (the reduced and full-FE rods), KLU below "
+       "(the exact rod); dense; klu",
        {"auto", "dense", "klu"}},
       {"sim.eliminate_prescribed", K::kBool, D::kDimensionless, "true",
        "integrate without the coordinates that ground-side constraints prescribe (driven crank, "

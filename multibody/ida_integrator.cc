@@ -9,7 +9,6 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
-#include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
@@ -22,6 +21,7 @@
 #include <limits>
 
 #include "common/scope_timer.h"
+#include "multibody/ida_dense_solver.h"
 #include "multibody/ida_timed_solver.h"
 #include "multibody/serial_vector_ops.h"
 
@@ -173,8 +173,7 @@ static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vecto
     const ScopeTimer timer(impl->time_calls ? &impl->jacobian_seconds : nullptr);
     const int n = impl->n;
     int rc = 0;
-    if (!impl->sparse) {
-      SUNMatZero(J);
+    if (!impl->sparse) {  // IDA zeroes J before it calls a direct solver's Jacobian
       rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), SM_DATA_D(J));
     } else {
       // The system adds its entries into a zeroed column-major scratch; only the pattern's
@@ -429,7 +428,7 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
     SUNLinSol_KLUGetCommon(inner)->btf = 0;
   } else {
     A = CheckPointer(SUNDenseMatrix(n, n, ctx), "SUNDenseMatrix");
-    inner = CheckPointer(SUNLinSol_Dense(y, A, ctx), "SUNLinSol_Dense");
+    inner = MakeDenseLuSolver(A, ctx);
   }
   LS = MakeTimedSolver(inner, time_calls ? &linear_seconds : nullptr, ctx);
   CheckFlag(IDASetLinearSolver(mem, LS, A), "IDASetLinearSolver");
@@ -466,10 +465,13 @@ IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options
   impl_->last_message = &last_message_;
   if (impl_->n <= 0) throw NumericalError("IdaIntegrator: the DAE has no unknowns");
   switch (options_.linear_solver) {
-    case LinearSolverKind::kAuto:
+    case LinearSolverKind::kAuto: {
+      const double fill = static_cast<double>(system->JacobianPattern().nnz()) /
+                          (static_cast<double>(impl_->n) * impl_->n);
       solver_kind_ =
-          impl_->n >= options_.klu_threshold ? LinearSolverKind::kKlu : LinearSolverKind::kDense;
+          fill >= options_.dense_fill_threshold ? LinearSolverKind::kDense : LinearSolverKind::kKlu;
       break;
+    }
     default:
       solver_kind_ = options_.linear_solver;
   }

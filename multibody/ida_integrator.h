@@ -58,12 +58,14 @@ class DaeSystem {
 enum class LinearSolverKind { kAuto, kDense, kKlu };
 const char* ToString(LinearSolverKind kind);
 
-/// kAuto selects KLU from this many unknowns on (SUNDIALS dense LU below). Measured on this
-/// project's models (GGL Jacobians are sparse: identity blocks, sparse G): wall-time ratio
-/// KLU/dense 0.96 at 14 unknowns (one pendulum), 0.48 at 24, 0.64 at 34, 0.54 at 44 (pendulum
-/// chains), 0.53 at 40 (rigid slider-crank), 0.50 at 62 (Craig–Bampton rod, 8 modes), 0.3–0.5
-/// for full-FE rods of 64–280 unknowns. SUNDIALS' dense LU is unblocked, so KLU wins early.
-inline constexpr int kKluThreshold = 20;
+/// kAuto selects the dense LU (ida_dense_solver.h) when the iteration matrix's sparsity
+/// pattern fills at least this fraction of its n² entries, KLU below. Measured with callgrind
+/// (whole runs, dense against KLU instructions): Craig–Bampton and full-FE rods, fill 0.30 to
+/// 0.42, favour the dense LU at every size tried (−2 % at 25 unknowns, rigid rig; −16 %, 41,
+/// exudyn-match ideal; −15 %, 47, Simeon crank; −10 %, 63, flexible rig; −21 %, 87, 20 modes;
+/// −24 %, 127, 40 modes; −25 %, 157, and −24 %, 277, full FE rods); the exact rod, a body per
+/// node and fill 0.07, favours KLU (+13 % dense at 145 unknowns).
+inline constexpr double kDenseFillThreshold = 0.2;
 /// An iteration-matrix entry outside the sparsity pattern (a model bug) is looked for at the
 /// first Jacobian and every this many.
 inline constexpr long kPatternCheckInterval = 64;
@@ -83,8 +85,9 @@ struct IntegratorOptions {
   /// >= 0; IDA default 0.25.
   double jacobian_refresh_cj_change{0.25};
   LinearSolverKind linear_solver{LinearSolverKind::kAuto};
-  int klu_threshold{kKluThreshold};  ///< kAuto: KLU from this many unknowns on
-  bool suppress_algebraic{true};     ///< exclude algebraic unknowns from the error test
+  /// kAuto: the dense LU from this fraction of non-zeros in the iteration matrix on, KLU below.
+  double dense_fill_threshold{kDenseFillThreshold};
+  bool suppress_algebraic{true};  ///< exclude algebraic unknowns from the error test
   /// Multiply the error weights of the unknowns in DaeSystem::StepScaledWeightMask (index-2
   /// algebraic unknowns) by the step size h. Their Newton
   /// corrections carry round-off noise that grows like 1/h for index-2 multipliers (GGL λ,

@@ -69,7 +69,8 @@ void IntegratorOptions::Validate() const {
           "integrator.nonlinear_convergence_coefficient", nonlinear_convergence_coefficient,
           "must be in (0, 1)");
   RequireNonNegative("integrator.jacobian_refresh_cj_change", jacobian_refresh_cj_change);
-  Require(klu_threshold >= 1, "integrator.klu_threshold", klu_threshold, "must be >= 1");
+  Require(dense_fill_threshold >= 0.0 && dense_fill_threshold <= 1.0,
+          "integrator.dense_fill_threshold", dense_fill_threshold, "must be in [0, 1]");
 }
 
 std::string IdaFlagName(int flag) {

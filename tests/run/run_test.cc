@@ -474,14 +474,19 @@ TEST(RunRobustness, LooseToleranceRunsPastContactSeparations) {
   // (t = 0.0102 s) opens the joint, its force-derivative entries in the iteration matrix
   // become exactly zero, and KLU's re-factorisation with the old pivot sequence met a zero
   // pivot at every step size (IDA_CONV_FAIL at h = 2e-12). A fresh factorisation after such a
-  // failure fixes it (multibody/ida_integrator.cc, TimedSetup).
-  for (const char* tol : {"sim.rel_tol=1e-5", "sim.rel_tol=1e-4"}) {
-    const RunResult r = RunSimulation(
-        LoadRunInput("rigid-rig", {"joint.clearance=1 mm", "drive.speed=177 rpm", "sim.settle=0 s",
-                                   "sim.capture=0.3 s", "sim.sample_rate=10 kHz", tol}));
-    EXPECT_TRUE(r.ok()) << tol << ": " << r.status.Summary();
-    EXPECT_EQ(r.status.linear_solver, multibody::LinearSolverKind::kKlu);
-    EXPECT_GT(r.status.stats.roots_found, 4) << tol;  // several onsets and separations
+  // failure fixes it (multibody/ida_integrator.cc, TimedSetup). The dense LU, which the rig
+  // selects by default, pivots afresh at every factorisation; both must run through.
+  for (const auto& [solver, kind] :
+       {std::pair{"sim.linear_solver=klu", multibody::LinearSolverKind::kKlu},
+        std::pair{"sim.linear_solver=auto", multibody::LinearSolverKind::kDense}}) {
+    for (const char* tol : {"sim.rel_tol=1e-5", "sim.rel_tol=1e-4"}) {
+      const RunResult r = RunSimulation(LoadRunInput(
+          "rigid-rig", {"joint.clearance=1 mm", "drive.speed=177 rpm", "sim.settle=0 s",
+                        "sim.capture=0.3 s", "sim.sample_rate=10 kHz", tol, solver}));
+      EXPECT_TRUE(r.ok()) << tol << " " << solver << ": " << r.status.Summary();
+      EXPECT_EQ(r.status.linear_solver, kind) << solver;
+      EXPECT_GT(r.status.stats.roots_found, 4) << tol << " " << solver;  // onsets, separations
+    }
   }
 }
 
