@@ -80,10 +80,7 @@ class SimulationLoop {
         step_interval_(
             model, data,
             [this](double t, double* y, double* yp) {
-              if (!step_polynomial_cached_) {
-                ida_.CacheStepPolynomial();
-                step_polynomial_cached_ = true;
-              }
+              CacheStepPolynomial();
               ida_.EvaluateStepPolynomial(t, y, yp, prescribed_.kept_unknowns().data());
               prescribed_.ExpandPrescribed(t, y, yp);
             },
@@ -128,6 +125,15 @@ class SimulationLoop {
     prescribed_.Reduce(y.data(), yr_.data());
     prescribed_.Reduce(yp.data(), ypr_.data());
     ida_.Initialize(t, yr_.data(), ypr_.data());
+    step_polynomial_cached_ = false;
+  }
+
+  /// The last step's interpolating polynomial, built at most once per IDA return: the samples
+  /// and the step-interval callbacks (the impact-peak search) of one step share it.
+  void CacheStepPolynomial() {
+    if (step_polynomial_cached_) return;
+    ida_.CacheStepPolynomial();
+    step_polynomial_cached_ = true;
   }
 
   /// The integrator's current state in the full layout.
@@ -140,15 +146,11 @@ class SimulationLoop {
   void EmitUpTo(double t_ret, bool from_dense) {
     if (!grid_active_) return;
     const ScopeTimer timer(&output_seconds_);
-    bool cached = false;
     for (;;) {
       const double ts = grid_start_ + static_cast<double>(k_next_) * dt_;
       if (ts > t_ret + t_fuzz_ || ts > t_end_ + t_fuzz_) break;
       if (from_dense) {
-        if (!cached) {
-          ida_.CacheStepPolynomial();  // one set of IDAGetDky calls per step, not per sample
-          cached = true;
-        }
+        CacheStepPolynomial();  // one set of IDAGetDky calls per step, not per sample
         const double te = std::min(ts, t_ret);
         ida_.EvaluateStepPolynomial(te, ybuf_.data(), ypbuf_.data(),
                                     prescribed_.kept_unknowns().data());
@@ -189,6 +191,7 @@ class SimulationLoop {
     for (;;) {
       const double t_before = t_now_;
       const StepResult res = ida_.Step(t_end_);
+      step_polynomial_cached_ = false;
       if (res.outcome != StepOutcome::kRootStall) {
         t_now_ = res.t;
         stalls = 0;
@@ -221,7 +224,6 @@ class SimulationLoop {
   /// An accepted step from t_before to t_now: its interval, then its end point.
   void OnStep(double t_before) {
     if (callbacks_.on_step_interval) {
-      step_polynomial_cached_ = false;
       step_interval_.SetInterval(t_before, t_now_);
       callbacks_.on_step_interval(step_interval_);
     }
