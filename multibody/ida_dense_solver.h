@@ -14,11 +14,11 @@ namespace flexrod::multibody {
 /// equilibration diag(1 / max_j |a_ij|) (stored in row_scale, n), by Gaussian elimination
 /// with partial pivoting, right-looking, row swaps applied to whole rows (LAPACK's dgetf2
 /// convention: pivot[k] is the row exchanged with row k at step k). The equilibration is
-/// KLU's default (scale = 2); without it the iteration matrix's rows, of 1 to 4e10 N/m,
-/// choose pivots by unit, not by size (componentwise backward error 1e-8 instead of 5e-16
-/// on the exudyn-match clearance Jacobians). Later-column updates whose multipliers are all
-/// zero are skipped, so a sparse iteration matrix costs less than n³/3. Returns 0, or
-/// k + 1 if row k is zero or column k has no non-zero pivot.
+/// KLU's default (scale = 2); without it the iteration matrix's rows, each in its own unit and
+/// with entries from 1 to 4e10, choose pivots by unit, not by size (componentwise backward
+/// error 1e-8 instead of 5e-16 on the exudyn-match clearance Jacobians). A later column whose
+/// entry in the pivot row is zero is not updated, so a sparse iteration matrix costs less than
+/// n³/3. Returns 0, or k + 1 if row k is zero or column k has no non-zero pivot.
 int DenseLuFactor(double* a, int n, int* pivot, double* row_scale);
 /// Solves A x = b in place (b in, x out) with the factors of DenseLuFactor.
 void DenseLuSolve(const double* lu, int n, const int* pivot, const double* row_scale, double* b);

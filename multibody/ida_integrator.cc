@@ -413,7 +413,6 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
   SUNLinearSolver inner = nullptr;
   if (kind == LinearSolverKind::kKlu) {
     sparse = true;
-    pattern = system->JacobianPattern();
     if (pattern.size != n || static_cast<int>(pattern.col_ptr.size()) != n + 1) {
       throw NumericalError("IdaIntegrator: the Jacobian pattern does not match the DAE size");
     }
@@ -464,16 +463,15 @@ IdaIntegrator::IdaIntegrator(DaeSystem* system, const IntegratorOptions& options
   impl_->n = system->size();
   impl_->last_message = &last_message_;
   if (impl_->n <= 0) throw NumericalError("IdaIntegrator: the DAE has no unknowns");
-  switch (options_.linear_solver) {
-    case LinearSolverKind::kAuto: {
-      const double fill = static_cast<double>(system->JacobianPattern().nnz()) /
-                          (static_cast<double>(impl_->n) * impl_->n);
-      solver_kind_ =
-          fill >= options_.dense_fill_threshold ? LinearSolverKind::kDense : LinearSolverKind::kKlu;
-      break;
-    }
-    default:
-      solver_kind_ = options_.linear_solver;
+  // The pattern decides kAuto and is KLU's structure: built once, here.
+  if (options_.linear_solver != LinearSolverKind::kDense)
+    impl_->pattern = system->JacobianPattern();
+  solver_kind_ = options_.linear_solver;
+  if (solver_kind_ == LinearSolverKind::kAuto) {
+    const double fill =
+        static_cast<double>(impl_->pattern.nnz()) / (static_cast<double>(impl_->n) * impl_->n);
+    solver_kind_ =
+        fill >= options_.dense_fill_threshold ? LinearSolverKind::kDense : LinearSolverKind::kKlu;
   }
 }
 
