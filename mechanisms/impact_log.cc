@@ -154,7 +154,8 @@ void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::Elemen
     for (std::size_t i = 0; i < num_seen; ++i) {
       if (seen[i].t == t) return seen[i];
     }
-    const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(step.At(t), joint);
+    const multibody::ClearanceResponse r =
+        multibody::CalcClearanceResponse(step.ElementAt(t, joint), joint);
     const Point p{t, r.normal_force, r.kinematics.penetration};
     if (num_seen < seen.size()) seen[num_seen++] = p;
     return p;

@@ -603,6 +603,18 @@ void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int
     yp[to] = d[l];
   }
 }
+/// HornerGroup's value chains alone (the same multiply-adds in the same order), into y[into[i]].
+template <size_t L>
+void HornerValues(const double* c, size_t n, int k, double s, size_t i, const int* into,
+                  double* y) {
+  double v[L];
+  for (size_t l = 0; l < L; ++l) v[l] = c[static_cast<size_t>(k) * n + i + l];
+  for (int j = k - 1; j >= 0; --j) {
+    const double* row = c + static_cast<size_t>(j) * n + i;
+    for (size_t l = 0; l < L; ++l) v[l] = v[l] * s + row[l];
+  }
+  for (size_t l = 0; l < L; ++l) y[into[i + l]] = v[l];
+}
 }  // namespace
 
 void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, const int* into) const {
@@ -614,6 +626,17 @@ void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, cons
   size_t i = 0;
   for (; i + 4 <= n; i += 4) HornerGroup<4>(poly_.data(), n, poly_order_, s, i, into, y, yp);
   for (; i < n; ++i) HornerGroup<1>(poly_.data(), n, poly_order_, s, i, into, y, yp);
+}
+
+void IdaIntegrator::EvaluateStepPolynomialValues(double t, int begin, int end, double* y,
+                                                 const int* into) const {
+  FLEXROD_ASSERT(poly_order_ >= 0 && 0 <= begin && begin <= end && end <= impl_->n);
+  const size_t n = static_cast<size_t>(impl_->n);
+  const double s = t - poly_tn_;
+  size_t i = static_cast<size_t>(begin);
+  const size_t last = static_cast<size_t>(end);
+  for (; i + 4 <= last; i += 4) HornerValues<4>(poly_.data(), n, poly_order_, s, i, into, y);
+  for (; i < last; ++i) HornerValues<1>(poly_.data(), n, poly_order_, s, i, into, y);
 }
 
 const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }

@@ -176,6 +176,10 @@ class IdaIntegrator {
   /// Component i of y(t) and ẏ(t) goes to y[into[i]] and yp[into[i]] (into = nullptr: to
   /// y[i], yp[i]), so that a caller with a larger layout (PrescribedMotion) needs no copy.
   void EvaluateStepPolynomial(double t, double* y, double* yp, const int* into = nullptr) const;
+  /// y_i(t) alone (no ẏ) for the components i in [begin, end), written to y[into[i]]: the
+  /// numbers EvaluateStepPolynomial writes there, for a caller that needs a few unknowns at many
+  /// times of one step (the impact log's peak search reads one joint's two bodies).
+  void EvaluateStepPolynomialValues(double t, int begin, int end, double* y, const int* into) const;
   /// Validity interval [t_n − h_used, t_n] of the cached polynomial.
   double polynomial_start() const { return poly_t0_; }
   double polynomial_end() const { return poly_tn_; }

@@ -171,20 +171,29 @@ void PrescribedMotion::Expand(double t, const double* y, const double* yp, doubl
 }
 
 void PrescribedMotion::ExpandPrescribed(double t, double* y_full, double* yp_full) const {
+  for (const Set& s : sets_) ExpandSet(s, t, y_full, yp_full);
+}
+
+void PrescribedMotion::ExpandPrescribedBody(double t, int body, double* y_full,
+                                            double* yp_full) const {
+  for (const Set& s : sets_) {
+    if (s.body == body) ExpandSet(s, t, y_full, yp_full);
+  }
+}
+
+void PrescribedMotion::ExpandSet(const Set& s, double t, double* y_full, double* yp_full) const {
   const int np = model_.num_coordinates();
   double p[3], v[3], a[3];
-  for (const Set& s : sets_) {
-    Motion(s, t, p, v, a);
-    const Body& b = model_.bodies()[s.body];
-    for (size_t k = 0; k < s.slots.size(); ++k) {
-      const int c = b.coordinate(s.slots[k]);
-      y_full[c] = p[k];
-      y_full[np + c] = v[k];
-      yp_full[c] = v[k];
-      yp_full[np + c] = a[k];
-    }
-    for (int k : s.rows) y_full[model_.mu_offset() + k] = yp_full[model_.mu_offset() + k] = 0.0;
+  Motion(s, t, p, v, a);
+  const Body& b = model_.bodies()[s.body];
+  for (size_t k = 0; k < s.slots.size(); ++k) {
+    const int c = b.coordinate(s.slots[k]);
+    y_full[c] = p[k];
+    y_full[np + c] = v[k];
+    yp_full[c] = v[k];
+    yp_full[np + c] = a[k];
   }
+  for (int k : s.rows) y_full[model_.mu_offset() + k] = yp_full[model_.mu_offset() + k] = 0.0;
 }
 
 void PrescribedMotion::Reduce(const double* full, double* reduced) const {

@@ -53,6 +53,8 @@ class PrescribedMotion {
   /// The part of Expand that does not read the kept entries: prescribed p, v and their rates,
   /// the dropped μ and μ̇ zero (for a caller that has written the kept entries itself).
   void ExpandPrescribed(double t, double* y_full, double* yp_full) const;
+  /// ExpandPrescribed for one body's prescribed coordinates alone (nothing if it has none).
+  void ExpandPrescribedBody(double t, int body, double* y_full, double* yp_full) const;
   /// Gathers the kept unknowns of a full vector.
   void Reduce(const double* full, double* reduced) const;
   /// Moves the kept rows and kept columns of a full column-major N×N matrix (ld = N) into the
@@ -88,6 +90,8 @@ class PrescribedMotion {
   static std::optional<Set> GuidedSet(const Mechanism& model, const Joint& jt);
   /// kept_unknowns_, kept_rows_ and row_to_reduced_ from sets_ (see the file comment).
   void BuildIndexMaps();
+  /// One set's part of ExpandPrescribed.
+  void ExpandSet(const Set& s, double t, double* y_full, double* yp_full) const;
   /// p, v, a of the set's slots at t, in the order of Set::slots.
   void Motion(const Set& s, double t, double* p, double* v, double* a) const;
 

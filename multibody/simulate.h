@@ -208,8 +208,16 @@ class StepInterpolant {
  public:
   /// Writes y(t), ẏ(t) (full layout) for t in the step.
   using Evaluate = std::function<void(double t, double* y, double* yp)>;
-  StepInterpolant(const Mechanism& model, RunData* data, Evaluate evaluate, Vec* y, Vec* yp)
-      : model_(model), data_(data), evaluate_(std::move(evaluate)), y_(y), yp_(yp) {}
+  /// Writes y_i(t) for the full-layout unknowns i in `unknowns` only.
+  using EvaluateSome = std::function<void(double t, const std::vector<int>& unknowns, double* y)>;
+  StepInterpolant(const Mechanism& model, RunData* data, Evaluate evaluate,
+                  EvaluateSome evaluate_some, Vec* y, Vec* yp)
+      : model_(model),
+        data_(data),
+        evaluate_(std::move(evaluate)),
+        evaluate_some_(std::move(evaluate_some)),
+        y_(y),
+        yp_(yp) {}
   /// The step [t_begin, t_end] [s] that `evaluate` now interpolates.
   void SetInterval(double t_begin, double t_end) {
     t_begin_ = t_begin;
@@ -217,16 +225,23 @@ class StepInterpolant {
   }
   double t_begin() const { return t_begin_; }  ///< [s]
   double t_end() const { return t_end_; }      ///< [s]
-  /// The solution at t, clamped to the step; valid until the next call of At.
+  /// The solution at t, clamped to the step; valid until the next call of At or ElementAt.
   SampleView At(double t) const;
+  /// The solution at t, clamped to the step, for force element e's own queries only
+  /// (CalcClearanceResponse): of y, only what e reads is evaluated (its markers' bodies'
+  /// coordinates and velocities, its states), the same numbers At gives them; ẏ and the other
+  /// unknowns are stale, so the view serves no other query. Valid until the next At or ElementAt.
+  SampleView ElementAt(double t, ElementId e) const;
 
  private:
   const Mechanism& model_;
   RunData* data_;
   Evaluate evaluate_;
+  EvaluateSome evaluate_some_;
   double t_begin_{0.0}, t_end_{0.0};
   Vec* y_;
   Vec* yp_;
+  mutable std::vector<std::vector<int>> element_unknowns_;  // by element index, on first use
 };
 
 struct SimulationCallbacks {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/error.h"
@@ -84,6 +85,10 @@ class SimulationLoop {
               ida_.EvaluateStepPolynomial(t, y, yp, prescribed_.kept_unknowns().data());
               prescribed_.ExpandPrescribed(t, y, yp);
             },
+            [this](double t, const std::vector<int>& unknowns, double* y) {
+              CacheStepPolynomial();
+              EvaluateSome(t, unknowns, y);
+            },
             &ybuf_, &ypbuf_) {
     status_.velocity_tol_scale = velocity_tol_scale;
     status_.linear_solver = ida_.linear_solver();
@@ -134,6 +139,45 @@ class SimulationLoop {
     if (step_polynomial_cached_) return;
     ida_.CacheStepPolynomial();
     step_polynomial_cached_ = true;
+  }
+
+  /// y_i(t) of the step's polynomial for the full-layout unknowns i in `unknowns` (prescribed
+  /// ones from their motion), into the full y: StepInterpolant::ElementAt.
+  void EvaluateSome(double t, const std::vector<int>& unknowns, double* y) {
+    if (unknowns.data() != some_key_ || unknowns.size() != some_size_) {
+      // Their reduced components as runs of consecutive ones, and the bodies whose prescribed
+      // coordinates are among them. (The lists live in the StepInterpolant for the whole run, one
+      // per element, so a list's data pointer and size name it.)
+      some_key_ = unknowns.data();
+      some_size_ = unknowns.size();
+      some_runs_.clear();
+      some_bodies_.clear();
+      const std::vector<int>& kept = prescribed_.kept_unknowns();
+      for (const int i : unknowns) {
+        const auto it = std::lower_bound(kept.begin(), kept.end(), i);
+        if (it == kept.end() || *it != i) {
+          const int c = i < np_ ? i : i - np_;  // a prescribed coordinate or velocity
+          for (int b = 0; b < model_.num_bodies(); ++b) {
+            const Body& body = model_.bodies()[b];
+            if (c >= body.coordinate_offset &&
+                c < body.coordinate_offset + body.num_coordinates() &&
+                std::find(some_bodies_.begin(), some_bodies_.end(), b) == some_bodies_.end())
+              some_bodies_.push_back(b);
+          }
+          continue;
+        }
+        const int r = static_cast<int>(it - kept.begin());
+        if (!some_runs_.empty() && some_runs_.back().second == r) {
+          ++some_runs_.back().second;
+        } else {
+          some_runs_.emplace_back(r, r + 1);
+        }
+      }
+    }
+    for (const auto& [begin, end] : some_runs_) {
+      ida_.EvaluateStepPolynomialValues(t, begin, end, y, prescribed_.kept_unknowns().data());
+    }
+    for (const int b : some_bodies_) prescribed_.ExpandPrescribedBody(t, b, y, ypbuf_.data());
   }
 
   /// The integrator's current state in the full layout.
@@ -364,7 +408,12 @@ class SimulationLoop {
   SimulationStatus status_;
   Vec yr_, ypr_;      // reduced state (IDA's layout)
   Vec ybuf_, ypbuf_;  // full dense-output buffers
-  Vec yev_, ypev_;    // full event/restart state
+  // EvaluateSome's last list of unknowns (its data and size) and its reduced components.
+  const int* some_key_{nullptr};
+  size_t some_size_{0};
+  std::vector<std::pair<int, int>> some_runs_;  // [begin, end) of reduced components
+  std::vector<int> some_bodies_;                // bodies with prescribed coordinates among them
+  Vec yev_, ypev_;                              // full event/restart state
   const std::vector<int> projected_;
   std::vector<double> stops_;
   size_t stop_index_{0};

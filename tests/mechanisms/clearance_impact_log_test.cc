@@ -212,8 +212,20 @@ TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
     cb.on_step = [&](const SampleView& s) {
       logger.Observe(MakeContactPoint(s.t(), 0.0, CalcClearanceResponse(s, p.joint)));
     };
+    int compared = 0;  // steps in contact where ElementAt is compared with At
     if (locate) {
       cb.on_step_interval = [&](const StepInterpolant& step) {
+        // ElementAt (the peak search's view) evaluates only the joint's unknowns (the pin's,
+        // and the held bush's from its prescribed motion): the same response as At at the
+        // same time, whatever the buffers held before (here the step's start).
+        const double tm = 0.5 * (step.t_begin() + step.t_end());
+        (void)step.At(step.t_begin());
+        const ClearanceResponse some = CalcClearanceResponse(step.ElementAt(tm, p.joint), p.joint);
+        const ClearanceResponse all = CalcClearanceResponse(step.At(tm), p.joint);
+        EXPECT_EQ(some.normal_force, all.normal_force);
+        EXPECT_EQ(some.kinematics.penetration, all.kinematics.penetration);
+        EXPECT_EQ(some.kinematics.penetration_rate, all.kinematics.penetration_rate);
+        if (all.normal_force > 0.0) ++compared;
         LocateImpactPeaks(step, p.joint, &logger);
       };
     }
@@ -228,6 +240,7 @@ TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
                 locate ? "located" : "solution points", log[0].peak_force, ref.peak_force,
                 force_error, depth_error);
     if (locate) {
+      EXPECT_GT(compared, 10);
       EXPECT_LT(force_error, 2e-6);
       EXPECT_LT(depth_error, 2e-6);
     } else {

@@ -257,7 +257,7 @@ TEST(IdaIntegrator, ARelativeToleranceCapResolvesASmallMotionAtALargeOffset) {
 }
 
 // The Taylor form of the last step's interpolant equals IDAGetDky (value and derivative), also
-// when written through an index map.
+// when written through an index map and when only the values of some components are asked for.
 TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
   // 3 unknowns, and 9 (the evaluation takes four components at a time, then the rest).
   for (int copies : {1, 3}) {
@@ -291,6 +291,13 @@ TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
         for (int slot = 0; slot <= 2 * n; slot += 2) {
           EXPECT_EQ(ys[slot], -7.0);
           EXPECT_EQ(yps[slot], -7.0);
+        }
+        // The values alone over a range of components (the impact-peak search's evaluation):
+        // the same numbers, nothing outside the range touched.
+        for (const auto& [begin, end] : {std::pair{0, n}, std::pair{1, n}, std::pair{2, n - 1}}) {
+          std::fill(ys.begin(), ys.end(), -7.0);
+          ida.EvaluateStepPolynomialValues(t, begin, end, ys.data(), into.data());
+          for (int i = 0; i < n; ++i) EXPECT_EQ(ys[into[i]], i >= begin && i < end ? y[i] : -7.0);
         }
         for (int i = 0; i < n; ++i) {
           // x, v, a and their rates are of order 1, ω, ω², ω³: relative to that scale.
