@@ -27,7 +27,8 @@ struct RunOptions {
   std::string out_dir{"out/run"};
   std::string vtk_dir;  ///< ParaView output directory, "" = none
   bool no_plot{false};
-  bool check{false};  ///< --check: repeat at 100x tighter tolerances, report the differences
+  bool check{false};    ///< --check: repeat at 100x tighter tolerances, report the differences
+  bool profile{false};  ///< --profile: time the integrator's calls (RunOutputOptions::profile)
 };
 
 /// A summary ratio to 4 significant digits; "n/a" when absent or null (undefined ratio).
@@ -47,6 +48,17 @@ void PrintFigures(const RunOptions& opt, const RunResult& run) {
               multibody::ToString(run.status.outcome), run.status.stats.steps,
               run.status.stats.residual_evaluations, run.status.stats.jacobian_evaluations,
               run.status.wall_seconds);
+  const multibody::IntegratorStats& st = run.status.stats;
+  if (opt.profile && run.status.wall_seconds > 0.0) {
+    const double w = run.status.wall_seconds, output = run.status.output_seconds;
+    const double rest =
+        w - st.residual_seconds - st.jacobian_seconds - st.linear_solve_seconds - output;
+    std::printf(
+        "  solver wall shares (--profile): residuals %.1f %%, Jacobians %.1f %%, linear solves "
+        "%.1f %%, output %.1f %%, the rest (IDA, events, step bookkeeping) %.1f %%\n",
+        100.0 * st.residual_seconds / w, 100.0 * st.jacobian_seconds / w,
+        100.0 * st.linear_solve_seconds / w, 100.0 * output / w, 100.0 * rest / w);
+  }
   std::printf("  samples: %zu at %.6g Hz from t = %.6g s\n", run.channels.num_samples(),
               run.channels.sample_rate(), run.channels.start_time());
   if (s.contains("slider_acceleration")) {
@@ -130,6 +142,7 @@ int Run(const RunOptions& opt) {
   if (!opt.vtk_dir.empty()) CheckCanCreateDirectory("--vtk", opt.vtk_dir);
   RunOutputOptions outputs;
   outputs.record_vtk = !opt.vtk_dir.empty();
+  outputs.profile = opt.profile;
   std::optional<RunPlotter> plotter;
   if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
   RunResult run = RunSimulation(cfg, nullptr, false, outputs);
@@ -170,6 +183,10 @@ void RegisterRun(CLI::App& app, Handler* handler) {
   cmd->add_flag("--check", opt->check,
                 "accuracy estimate: repeat the run at 100x tighter sim.rel_tol and sim.abs_tol "
                 "and report each headline figure's difference (summary accuracy_check)");
+  cmd->add_flag("--profile", opt->profile,
+                "time the integrator's residuals, Jacobians and linear solves (clock reads around "
+                "each call: a few % slower) and print their shares of the solver wall (summary "
+                "integrator residual_time, jacobian_time, linear_solve_time)");
   cmd->add_option(
       "--vtk", opt->vtk_dir,
       "write a ParaView time series (DIR/run.pvd + one .vtu per frame) of the deformed rod, "

@@ -9,8 +9,10 @@ header: joint.type=ideal, sim.sample_rate=10 kHz) and the 0.5 mm clearance joint
 twin included, as a clearance run computes it). Each case runs N times (default 3) in a fresh
 process; per case it prints the process CPU time (user + system, every thread: the twin runs
 on a second core when there is one), the minimum over the rounds, the ratio to Exudyn's CPU
-time on this machine class, and the run's steps, residuals, Jacobians, events and the
-integrator's time shares. Timing only: never a test.
+time on this machine class, and the run's steps, residuals, Jacobians, events and, from one more
+run with `--profile` (not timed: its clock reads cost a few percent), the shares of the solver
+wall spent in residuals, Jacobians, linear solves, output and the rest. Timing only: never a
+test.
 
 Exudyn's CPU times are the ones the input file's header quotes (Exudyn 1.11, fixed-step
 generalised-alpha, 10 Craig-Bampton modes of a 2565-dof solid rod, one core): ideal joint
@@ -62,6 +64,18 @@ def describe(name, s):
     print(line)
 
 
+def describe_shares(s):
+    """The profiled run's shares of its solver wall (summary integrator, `flexrod run --profile`)."""
+    it = s["integrator"]
+    wall = it["wall_time [s]"]
+    parts = [("residuals", it["residual_time [s]"]), ("Jacobians", it["jacobian_time [s]"]),
+             ("linear solves", it["linear_solve_time [s]"]), ("output", it["output_time [s]"])]
+    rest = wall - sum(t for _, t in parts)
+    print("    run   solver wall shares (one more run, --profile): "
+          + ", ".join("%s %.0f %%" % (name, 100.0 * t / wall) for name, t in parts)
+          + ", the rest (IDA, events, step bookkeeping) %.0f %%" % (100.0 * rest / wall))
+
+
 def main(argv):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--rounds", type=int, default=3)
@@ -84,6 +98,7 @@ def main(argv):
               % (case, best, rounds, ", ".join("%.3f" % c for c in cpus), EXUDYN_CPU[case],
                  EXUDYN_CPU[case] / best))
         describe("run", summary)
+        describe_shares(run_once(binary, toml, args + extra + ["--profile"])[1])
         if "ideal" in summary and "integrator" in summary["ideal"]:
             describe("twin", summary["ideal"])
         a = summary.get("slider_acceleration", {})

@@ -129,6 +129,39 @@ TEST(RunCli, CheckWritesTheDifferencesAtTighterTolerances) {
   ExpectExitTwoAndNoOutput("check_floor", {"run rigid-rig --check --set sim.rel_tol=1e-13"});
 }
 
+// `run --profile` times the integrator's calls: the summary carries their wall times, each
+// within the solver wall and together no more than it, and the report prints their shares.
+TEST(RunCli, ProfileWritesAndPrintsTheIntegratorsTimeShares) {
+  const fs::path out = ScratchPath("cli_profile");
+  const CommandResult r = Flexrod(
+      "run rigid-rig --profile --no-plot --set sim.settle=0s --set sim.capture=0.2s --out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("solver wall shares (--profile): residuals"), std::string::npos)
+      << r.output;
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  const auto& it = s["integrator"];
+  const double wall = it["wall_time [s]"].get<double>();
+  double sum = it["output_time [s]"].get<double>();
+  for (const char* key : {"residual_time [s]", "jacobian_time [s]", "linear_solve_time [s]"}) {
+    ASSERT_TRUE(it.contains(key)) << key;
+    const double t = it[key].get<double>();
+    EXPECT_GT(t, 0.0) << key;
+    sum += t;
+  }
+  EXPECT_LE(sum, wall);
+  fs::remove_all(out);
+  // Without the flag, nothing is timed and nothing is printed.
+  const CommandResult plain = Flexrod(
+      "run rigid-rig --no-plot --set sim.settle=0s --set sim.capture=0.2s --out " + out.string());
+  ASSERT_EQ(plain.exit_code, 0);
+  EXPECT_EQ(plain.output.find("solver wall shares"), std::string::npos);
+  std::ifstream in2(out / "summary.json");
+  EXPECT_FALSE(nlohmann::json::parse(in2)["integrator"].contains("residual_time [s]"));
+  fs::remove_all(out);
+}
+
 // An --out that cannot be a directory (a regular file) is refused before the run, not after
 // it (the whole simulation used to be lost), and the file is left as it was.
 TEST(RunCli, OutThatCannotBeADirectoryExitsWithTwoBeforeTheRun) {
