@@ -9,6 +9,8 @@
 //  * The engine: a free pin hits a fixed bush once (multibody/clearance_fixture.h) and the log
 //    reproduces the single impact of contact::SimulateImpact (RK8(9) at 1e-12) although not one
 //    output sample falls inside the contact.
+//  * The peak search's view of a step (StepInterpolant::ElementAt: the joint's unknowns only)
+//    gives the full view's response, also for a bush on a driven, prescribed crank.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
@@ -247,6 +249,55 @@ TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
       EXPECT_GT(force_error, 1e-4);  // what the located peaks fix
     }
   }
+}
+
+// ElementAt evaluates only the joint's unknowns; a body the integrator does not carry (a crank
+// turned by a constant-speed driver, eliminated as prescribed) comes from its motion at the
+// asked time. The bush rides on such a crank, 50 mm off its axis at 20 rad/s; a free pin starts
+// in it with its velocity and soon strikes it. In every step, ElementAt at the step's midpoint
+// gives At's clearance response there, after At at the step's start left the bush's stale
+// coordinates in the buffers.
+TEST(ImpactLog, ElementAtTakesADrivenBodyFromItsMotion) {
+  using namespace multibody;
+  MechanismBuilder b;
+  const BodyId crank = b.AddRigidBody({"crank", 1.0, 1e-3, Vec2::Zero()});
+  b.AddRevolute("bearing", b.AddGroundMarker("pivot", Vec2::Zero()),
+                b.AddBodyMarker(crank, "axis", Vec2::Zero()));
+  b.AddConstantSpeedDriver("drive", crank, 0.0, 20.0);
+  const BodyId pin = b.AddRigidBody({"pin", 0.1, 1e-5, Vec2::Zero()});
+  const MarkerId bush = b.AddBodyMarker(crank, "bush", Vec2(0.05, 0.0));
+  const MarkerId centre = b.AddBodyMarker(pin, "pin-centre", Vec2::Zero());
+  const ElementId joint = b.AddForceElement(
+      "clearance", bush, centre,
+      std::make_shared<const ClearanceJoint>(testing::RigJointGeometry(),
+                                             testing::RigLaw("hybrid", 0.9), std::nullopt));
+  const Mechanism model = b.Build();
+  InitialConditionSpec ic;
+  ic.coordinates = Vec::Zero(model.num_coordinates());
+  ic.velocities = Vec::Zero(model.num_coordinates());
+  SetBodyPose(model, pin, Vec2(0.05, 0.0), 0.0, &ic.coordinates);
+  SetBodyVelocity(model, pin, Vec2(0.0, 1.0), 0.0, &ic.velocities);
+  SimulationOptions opt;
+  opt.t_end = 0.05;
+  opt.sample_rate = 1e3;
+  RunData data(model);
+  int compared = 0, in_contact = 0;
+  SimulationCallbacks cb;
+  cb.on_step_interval = [&](const StepInterpolant& step) {
+    const double tm = 0.5 * (step.t_begin() + step.t_end());
+    (void)step.At(step.t_begin());
+    const ClearanceResponse some = CalcClearanceResponse(step.ElementAt(tm, joint), joint);
+    const ClearanceResponse all = CalcClearanceResponse(step.At(tm), joint);
+    EXPECT_EQ(some.kinematics.penetration, all.kinematics.penetration) << tm;
+    EXPECT_EQ(some.kinematics.penetration_rate, all.kinematics.penetration_rate) << tm;
+    EXPECT_EQ(some.normal_force, all.normal_force) << tm;
+    ++compared;
+    if (all.normal_force > 0.0) ++in_contact;
+  };
+  const SimulationStatus st = Simulate(model, &data, ic, opt, cb);
+  ASSERT_TRUE(st.ok()) << st.Summary();
+  EXPECT_GT(compared, 50);
+  EXPECT_GT(in_contact, 5);  // the crank's bush does strike the pin
 }
 
 TEST(ImpactLog, InteriorMaximumIsLocatedAndAnEndMaximumIsLeftToTheSolutionPoints) {
