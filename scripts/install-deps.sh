@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libarpack2-dev libsundials-dev libgsl-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libtomlplusplus-dev
-  libhdf5-dev hdf5-tools zlib1g-dev libopenmpi-dev openmpi-bin nlohmann-json3-dev
+  libhdf5-dev hdf5-tools libdeflate-dev libopenmpi-dev openmpi-bin nlohmann-json3-dev
   python3 python3-numpy python3-matplotlib python3-h5py clang libclang-rt-14-dev clang-format
   python3-dev pybind11-dev python3-pybind11 python3-pytest
 )
