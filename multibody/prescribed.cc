@@ -170,18 +170,10 @@ void PrescribedMotion::Expand(double t, const double* y, const double* yp, doubl
   ExpandPrescribed(t, y_full, yp_full);
 }
 
-void PrescribedMotion::ExpandPrescribed(double t, double* y_full, double* yp_full) const {
-  for (const Set& s : sets_) ExpandSet(s, t, y_full, yp_full);
-}
-
-void PrescribedMotion::ExpandPrescribedBody(double t, int body, double* y_full,
-                                            double* yp_full) const {
-  for (const Set& s : sets_) {
-    if (s.body == body) ExpandSet(s, t, y_full, yp_full);
-  }
-}
-
-void PrescribedMotion::ExpandSet(const Set& s, double t, double* y_full, double* yp_full) const {
+// Inlined into both callers: ExpandPrescribed runs in every residual (PrescribedMotion::Expand).
+[[gnu::always_inline]] inline void PrescribedMotion::ExpandSet(const Set& s, double t,
+                                                               double* y_full,
+                                                               double* yp_full) const {
   const int np = model_.num_coordinates();
   double p[3], v[3], a[3];
   Motion(s, t, p, v, a);
@@ -194,6 +186,17 @@ void PrescribedMotion::ExpandSet(const Set& s, double t, double* y_full, double*
     yp_full[np + c] = a[k];
   }
   for (int k : s.rows) y_full[model_.mu_offset() + k] = yp_full[model_.mu_offset() + k] = 0.0;
+}
+
+void PrescribedMotion::ExpandPrescribed(double t, double* y_full, double* yp_full) const {
+  for (const Set& s : sets_) ExpandSet(s, t, y_full, yp_full);
+}
+
+void PrescribedMotion::ExpandPrescribedBody(double t, int body, double* y_full,
+                                            double* yp_full) const {
+  for (const Set& s : sets_) {
+    if (s.body == body) ExpandSet(s, t, y_full, yp_full);
+  }
 }
 
 void PrescribedMotion::Reduce(const double* full, double* reduced) const {
