@@ -250,7 +250,7 @@ void ChainElementJacobian(const Mechanism& model, const RunData& data, const Ele
       const Mat& Kv = si == 0 ? es.Kv_i : es.Kv_j;
       // Coefficient-wise products (lazyProduct): at 3 × 6 × (3 + n) Eigen's size heuristic
       // takes the blocked matrix-matrix path, whose packing costs more than the 18 (3 + n)
-      // multiply-adds (callgrind, exudyn-match clearance: 2.1 k instructions a product).
+      // multiply-adds.
       es.T.topLeftCorner(3, nbi).noalias() = es.Do.block(3 * so, 6 * si, 3, 6).lazyProduct(Kp);
       J.block(ro, bi.coordinate_offset, nbo, nbi).noalias() -=
           Gen.transpose().lazyProduct(es.T.topLeftCorner(3, nbi));
