@@ -582,7 +582,8 @@ namespace {
 // Horner on components i..i+L−1 of the coefficient rows c (row j = D^j y / j!, n wide, order k):
 // y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}, written to y[into[i + l]] (into = nullptr: y[i + l]). L is
 // a compile-time count so the L chains of dependent multiply-adds stay in registers and overlap.
-template <size_t L>
+// kRates = false: the values alone (yp unused), the same multiply-adds in the same order.
+template <size_t L, bool kRates = true>
 void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int* into, double* y,
                  double* yp) {
   double v[L], d[L];
@@ -593,27 +594,15 @@ void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int
   for (int j = k - 1; j >= 0; --j) {
     const double* row = c + static_cast<size_t>(j) * n + i;
     for (size_t l = 0; l < L; ++l) {
-      d[l] = d[l] * s + v[l];
+      if constexpr (kRates) d[l] = d[l] * s + v[l];
       v[l] = v[l] * s + row[l];
     }
   }
   for (size_t l = 0; l < L; ++l) {
     const size_t to = into ? static_cast<size_t>(into[i + l]) : i + l;
     y[to] = v[l];
-    yp[to] = d[l];
+    if constexpr (kRates) yp[to] = d[l];
   }
-}
-/// HornerGroup's value chains alone (the same multiply-adds in the same order), into y[into[i]].
-template <size_t L>
-void HornerValues(const double* c, size_t n, int k, double s, size_t i, const int* into,
-                  double* y) {
-  double v[L];
-  for (size_t l = 0; l < L; ++l) v[l] = c[static_cast<size_t>(k) * n + i + l];
-  for (int j = k - 1; j >= 0; --j) {
-    const double* row = c + static_cast<size_t>(j) * n + i;
-    for (size_t l = 0; l < L; ++l) v[l] = v[l] * s + row[l];
-  }
-  for (size_t l = 0; l < L; ++l) y[into[i + l]] = v[l];
 }
 }  // namespace
 
@@ -635,8 +624,9 @@ void IdaIntegrator::EvaluateStepPolynomialValues(double t, int begin, int end, d
   const double s = t - poly_tn_;
   size_t i = static_cast<size_t>(begin);
   const size_t last = static_cast<size_t>(end);
-  for (; i + 4 <= last; i += 4) HornerValues<4>(poly_.data(), n, poly_order_, s, i, into, y);
-  for (; i < last; ++i) HornerValues<1>(poly_.data(), n, poly_order_, s, i, into, y);
+  for (; i + 4 <= last; i += 4)
+    HornerGroup<4, false>(poly_.data(), n, poly_order_, s, i, into, y, nullptr);
+  for (; i < last; ++i) HornerGroup<1, false>(poly_.data(), n, poly_order_, s, i, into, y, nullptr);
 }
 
 const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }

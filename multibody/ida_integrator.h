@@ -59,12 +59,10 @@ enum class LinearSolverKind { kAuto, kDense, kKlu };
 const char* ToString(LinearSolverKind kind);
 
 /// kAuto selects the dense LU (ida_dense_solver.h) when the iteration matrix's sparsity
-/// pattern fills at least this fraction of its n² entries, KLU below. Measured with callgrind
-/// (whole runs, dense against KLU instructions): Craig–Bampton and full-FE rods, fill 0.30 to
-/// 0.42, favour the dense LU at every size tried (−2 % at 25 unknowns, rigid rig; −16 %, 41,
-/// exudyn-match ideal; −15 %, 47, Simeon crank; −10 %, 63, flexible rig; −21 %, 87, 20 modes;
-/// −24 %, 127, 40 modes; −25 %, 157, and −24 %, 277, full FE rods); the exact rod, a body per
-/// node and fill 0.07, favours KLU (+13 % dense at 145 unknowns).
+/// pattern fills at least this fraction of its n² entries, KLU below. The Craig–Bampton and
+/// full-FE rods (fill 0.30 to 0.42) ran in fewer instructions on the dense LU at every size
+/// measured, the exact rod (a body per node, fill 0.04 to 0.07) on KLU (callgrind, whole runs;
+/// the figures are in commit deb7c9a's message).
 inline constexpr double kDenseFillThreshold = 0.2;
 /// An iteration-matrix entry outside the sparsity pattern (a model bug) is looked for at the
 /// first Jacobian and every this many.

@@ -58,29 +58,8 @@ SampleView StepInterpolant::At(double t) const {
 }
 
 SampleView StepInterpolant::ElementAt(double t, ElementId e) const {
-  const size_t k = static_cast<size_t>(e.index);
-  if (element_unknowns_.size() <= k) element_unknowns_.resize(k + 1);
-  std::vector<int>& unknowns = element_unknowns_[k];
-  if (unknowns.empty()) {
-    const ElementSlot& slot = model_.element(e);
-    const int np = model_.num_coordinates();
-    for (const int mi : {slot.marker_i, slot.marker_j}) {
-      const int body = model_.markers()[mi].body;
-      if (body < 0) continue;
-      const Body& b = model_.bodies()[body];
-      for (int c = 0; c < b.num_coordinates(); ++c) {
-        unknowns.push_back(b.coordinate_offset + c);
-        unknowns.push_back(np + b.coordinate_offset + c);
-      }
-    }
-    for (int s = 0; s < slot.num_states; ++s)
-      unknowns.push_back(model_.z_offset() + slot.state_offset + s);
-    std::sort(unknowns.begin(), unknowns.end());
-    unknowns.erase(std::unique(unknowns.begin(), unknowns.end()), unknowns.end());
-    if (unknowns.empty()) unknowns.push_back(0);  // two ground markers, no states: nothing to read
-  }
   const double tc = std::clamp(t, t_begin_, t_end_);
-  evaluate_some_(tc, unknowns, y_->data());
+  evaluate_element_(tc, e, y_->data());
   return SampleView(model_, data_, tc, y_->data(), yp_->data());
 }
 

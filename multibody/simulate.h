@@ -208,14 +208,15 @@ class StepInterpolant {
  public:
   /// Writes y(t), ẏ(t) (full layout) for t in the step.
   using Evaluate = std::function<void(double t, double* y, double* yp)>;
-  /// Writes y_i(t) for the full-layout unknowns i in `unknowns` only.
-  using EvaluateSome = std::function<void(double t, const std::vector<int>& unknowns, double* y)>;
+  /// Writes y(t) (full layout) only for the unknowns force element e reads: its markers'
+  /// bodies' coordinates and velocities, its states.
+  using EvaluateElement = std::function<void(double t, ElementId e, double* y)>;
   StepInterpolant(const Mechanism& model, RunData* data, Evaluate evaluate,
-                  EvaluateSome evaluate_some, Vec* y, Vec* yp)
+                  EvaluateElement evaluate_element, Vec* y, Vec* yp)
       : model_(model),
         data_(data),
         evaluate_(std::move(evaluate)),
-        evaluate_some_(std::move(evaluate_some)),
+        evaluate_element_(std::move(evaluate_element)),
         y_(y),
         yp_(yp) {}
   /// The step [t_begin, t_end] [s] that `evaluate` now interpolates.
@@ -237,11 +238,10 @@ class StepInterpolant {
   const Mechanism& model_;
   RunData* data_;
   Evaluate evaluate_;
-  EvaluateSome evaluate_some_;
+  EvaluateElement evaluate_element_;
   double t_begin_{0.0}, t_end_{0.0};
   Vec* y_;
   Vec* yp_;
-  mutable std::vector<std::vector<int>> element_unknowns_;  // by element index, on first use
 };
 
 struct SimulationCallbacks {

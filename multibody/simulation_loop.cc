@@ -85,13 +85,14 @@ class SimulationLoop {
               ida_.EvaluateStepPolynomial(t, y, yp, prescribed_.kept_unknowns().data());
               prescribed_.ExpandPrescribed(t, y, yp);
             },
-            [this](double t, const std::vector<int>& unknowns, double* y) {
+            [this](double t, ElementId e, double* y) {
               CacheStepPolynomial();
-              EvaluateSome(t, unknowns, y);
+              EvaluateElementInputs(t, e, y);
             },
             &ybuf_, &ypbuf_) {
     status_.velocity_tol_scale = velocity_tol_scale;
     status_.linear_solver = ida_.linear_solver();
+    element_inputs_.resize(model.elements().size());
     status_.unknowns = prescribed_.size();
   }
 
@@ -141,43 +142,70 @@ class SimulationLoop {
     step_polynomial_cached_ = true;
   }
 
-  /// y_i(t) of the step's polynomial for the full-layout unknowns i in `unknowns` (prescribed
-  /// ones from their motion), into the full y: StepInterpolant::ElementAt.
-  void EvaluateSome(double t, const std::vector<int>& unknowns, double* y) {
-    if (unknowns.data() != some_key_ || unknowns.size() != some_size_) {
-      // Their reduced components as runs of consecutive ones, and the bodies whose prescribed
-      // coordinates are among them. (The lists live in the StepInterpolant for the whole run, one
-      // per element, so a list's data pointer and size name it.)
-      some_key_ = unknowns.data();
-      some_size_ = unknowns.size();
-      some_runs_.clear();
-      some_bodies_.clear();
-      const std::vector<int>& kept = prescribed_.kept_unknowns();
-      for (const int i : unknowns) {
-        const auto it = std::lower_bound(kept.begin(), kept.end(), i);
-        if (it == kept.end() || *it != i) {
-          const int c = i < np_ ? i : i - np_;  // a prescribed coordinate or velocity
-          for (int b = 0; b < model_.num_bodies(); ++b) {
-            const Body& body = model_.bodies()[b];
-            if (c >= body.coordinate_offset &&
-                c < body.coordinate_offset + body.num_coordinates() &&
-                std::find(some_bodies_.begin(), some_bodies_.end(), b) == some_bodies_.end())
-              some_bodies_.push_back(b);
-          }
-          continue;
-        }
-        const int r = static_cast<int>(it - kept.begin());
-        if (!some_runs_.empty() && some_runs_.back().second == r) {
-          ++some_runs_.back().second;
-        } else {
-          some_runs_.emplace_back(r, r + 1);
-        }
-      }
-    }
-    for (const auto& [begin, end] : some_runs_) {
+  /// What a force element reads (EvaluateElementInputs).
+  struct ElementInputs {
+    bool built{false};
+    std::vector<std::pair<int, int>> runs;  // [begin, end) of reduced components
+    std::vector<int> prescribed_bodies;     // its markers' bodies with prescribed coordinates
+  };
+
+  /// y(t) of the step's polynomial for the unknowns force element e reads (its markers' bodies'
+  /// coordinates and velocities, its states), prescribed bodies from their motion:
+  /// StepInterpolant::ElementAt.
+  void EvaluateElementInputs(double t, ElementId e, double* y) {
+    ElementInputs& in = element_inputs_[static_cast<size_t>(e.index)];
+    if (!in.built) BuildElementInputs(e, &in);
+    for (const auto& [begin, end] : in.runs) {
       ida_.EvaluateStepPolynomialValues(t, begin, end, y, prescribed_.kept_unknowns().data());
     }
-    for (const int b : some_bodies_) prescribed_.ExpandPrescribedBody(t, b, y, ypbuf_.data());
+    for (const int b : in.prescribed_bodies) {
+      prescribed_.ExpandPrescribedBody(t, b, y, ypbuf_.data());
+    }
+  }
+
+  /// Element e's unknowns as runs of consecutive reduced components, and the bodies among its
+  /// markers' whose coordinates are prescribed (once per element, on first use).
+  void BuildElementInputs(ElementId e, ElementInputs* in) const {
+    const ElementSlot& slot = model_.element(e);
+    const std::vector<int>& kept = prescribed_.kept_unknowns();
+    auto reduced = [&kept](int i) {  // i's reduced index, −1 if prescribed
+      const auto it = std::lower_bound(kept.begin(), kept.end(), i);
+      return it != kept.end() && *it == i ? static_cast<int>(it - kept.begin()) : -1;
+    };
+    std::vector<int> components;
+    for (const int mi : {slot.marker_i, slot.marker_j}) {
+      const int b = model_.markers()[mi].body;
+      if (b < 0 || std::find(in->prescribed_bodies.begin(), in->prescribed_bodies.end(), b) !=
+                       in->prescribed_bodies.end())
+        continue;
+      const Body& body = model_.bodies()[b];
+      bool prescribed = false;
+      for (int c = body.coordinate_offset; c < body.coordinate_offset + body.num_coordinates();
+           ++c) {
+        for (const int i : {c, np_ + c}) {
+          const int r = reduced(i);
+          if (r < 0) {
+            prescribed = true;
+          } else {
+            components.push_back(r);
+          }
+        }
+      }
+      if (prescribed) in->prescribed_bodies.push_back(b);
+    }
+    for (int k = 0; k < slot.num_states; ++k) {
+      components.push_back(reduced(model_.z_offset() + slot.state_offset + k));
+    }
+    std::sort(components.begin(), components.end());
+    components.erase(std::unique(components.begin(), components.end()), components.end());
+    for (const int r : components) {
+      if (!in->runs.empty() && in->runs.back().second == r) {
+        ++in->runs.back().second;
+      } else {
+        in->runs.emplace_back(r, r + 1);
+      }
+    }
+    in->built = true;
   }
 
   /// The integrator's current state in the full layout.
@@ -406,14 +434,10 @@ class SimulationLoop {
   MechanismDae dae_;
   IdaIntegrator ida_;
   SimulationStatus status_;
-  Vec yr_, ypr_;      // reduced state (IDA's layout)
-  Vec ybuf_, ypbuf_;  // full dense-output buffers
-  // EvaluateSome's last list of unknowns (its data and size) and its reduced components.
-  const int* some_key_{nullptr};
-  size_t some_size_{0};
-  std::vector<std::pair<int, int>> some_runs_;  // [begin, end) of reduced components
-  std::vector<int> some_bodies_;                // bodies with prescribed coordinates among them
-  Vec yev_, ypev_;                              // full event/restart state
+  Vec yr_, ypr_;                               // reduced state (IDA's layout)
+  Vec ybuf_, ypbuf_;                           // full dense-output buffers
+  std::vector<ElementInputs> element_inputs_;  // by element index
+  Vec yev_, ypev_;                             // full event/restart state
   const std::vector<int> projected_;
   std::vector<double> stops_;
   size_t stop_index_{0};
