@@ -79,12 +79,57 @@ double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, cons
   double mtt = b.J0;
   double twice = b.mass * Rd.squaredNorm() + 2.0 * thd * AJs.dot(Rd);
   if (n > 0) {
-    CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
-    mtt += b.I1.dot(q) + q.dot(s.w);
-    const Vec2 ASqd = s.A * (b.Sbar * qd);
-    twice += 2.0 * Rd.dot(ASqd) + 2.0 * thd * s.c.dot(qd) + qd.dot(b.Mff * qd);
+    // Loops over the n modes, as in MassTimes.
+    const double* q = pb + kFirstMode;
+    const double* qd = vb + kFirstMode;
+    Vec2 Sqd = Vec2::Zero();
+    double cqd = 0.0, qMq = 0.0;
+    for (int j = 0; j < n; ++j) {
+      mtt += q[j] * (b.I1(j) + s.w(j));
+      Sqd += b.Sbar.col(j) * qd[j];
+      cqd += s.c(j) * qd[j];
+      const double* col = b.Mff.col(j).data();
+      double Mq = 0.0;
+      for (int i = 0; i < n; ++i) Mq += col[i] * qd[i];
+      qMq += qd[j] * Mq;
+    }
+    twice += 2.0 * Rd.dot(s.A * Sqd) + 2.0 * thd * cqd + qMq;
   }
   return 0.5 * (twice + mtt * thd * thd);
+}
+
+void MassTimes(const Body& b, const BodyScratch& s, const double* pb, const double* a,
+               double* out) {
+  // The blocks of FillMassMatrix applied to a without forming M: M_RR = m I, M_Rθ = A J s,
+  // M_Rf = A S̄, M_θθ = J₀ + 2 I₁ᵀq + qᵀM_ff q, M_θf = cᵀ, M_ff.
+  const int n = b.num_modes;
+  const Vec2 aR(a[kX], a[kY]);
+  const double ath = a[kTheta];
+  const Vec2 AJs = s.A * Jm(s.s);
+  Vec2 f = b.mass * aR + AJs * ath;
+  double m = AJs.dot(aR);
+  double mtt = b.J0;
+  if (n > 0) {
+    const double* pq = pb + kFirstMode;
+    const double* af = a + kFirstMode;
+    const Vec2 aRl = s.A.transpose() * aR;  // a_R in the body frame: (A S̄)ᵀ a_R = S̄ᵀ Aᵀ a_R
+    Vec2 Saf = Vec2::Zero();
+    double* tail = out + kFirstMode;
+    for (int i = 0; i < n; ++i) {
+      mtt += pq[i] * (b.I1(i) + s.w(i));
+      m += s.c(i) * af[i];
+      Saf += b.Sbar.col(i) * af[i];
+      tail[i] = s.c(i) * ath + b.Sbar(0, i) * aRl.x() + b.Sbar(1, i) * aRl.y();
+    }
+    for (int j = 0; j < n; ++j) {
+      const double* col = b.Mff.col(j).data();
+      for (int i = 0; i < n; ++i) tail[i] += col[i] * af[j];
+    }
+    f += s.A * Saf;
+  }
+  out[kX] = f.x();
+  out[kY] = f.y();
+  out[kTheta] = m + mtt * ath;
 }
 
 void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId joint,
@@ -106,10 +151,9 @@ void AddBodyResidual(const Mechanism& model, RunData* data, size_t bi, const dou
   const Body& b = model.bodies()[bi];
   BodyScratch& s = data->bodies[bi];
   const int o = b.coordinate_offset, nb = b.num_coordinates(), n = b.num_modes;
-  FillMassMatrix(b, s, p + o, &s.M);
   FillQuadraticVelocity(b, s, v + o, &s.Qv);
+  MassTimes(b, s, p + o, vd + o, r2 + o);
   VMap rb(r2 + o, nb);
-  rb.noalias() = s.M * CMap(vd + o, nb);
   rb -= s.Qv;
   if (has_gravity) {
     rb.head<2>() -= b.mass * gravity;

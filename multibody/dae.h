@@ -53,6 +53,9 @@ void UpdateKinematics(const Mechanism& model, RunData* data, const double* y);
 /// Kinetic energy ½ vᵀM v of one body [J] (after UpdateKinematics; pb, vb: its coordinates
 /// and velocities).
 double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, const double* vb);
+/// M(θ, q) a of one body into out[0, 3 + n) (after UpdateBody), without forming M: the
+/// residual's M v̇.
+void MassTimes(const Body& b, const BodyScratch& s, const double* pb, const double* a, double* out);
 /// Position constraint values of one joint at the kinematics in data (num_rows values).
 void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId joint,
                          const double* y, double* g);

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/matvec.h"
 #include "common/scope_timer.h"
 #include "multibody/dae.h"
 
@@ -27,15 +28,9 @@ namespace flexrod::multibody::dae_kernels {
 
 namespace {
 
-// Views of the H_k: (n × n r) with column block k = H_k, so that [H_k x] = viewᵀ x (H_k is
-// symmetric); Body::strain_tensors (n² × r) is the same storage.
-Eigen::Map<const Mat> StrainTensors(const Body& b) {
-  return {b.strain_tensors.data(), b.num_modes, b.strain_tensors.size() / b.num_modes};
-}
-
-// [H_k x] (n × r) into h.
+// [H_k x] (n × r) into h: Body::strain_tensors stacks the H_k (n r × n).
 void StrainTensorProducts(const Body& b, const CMap& x, Mat* h) {
-  Eigen::Map<Vec>(h->data(), h->size()).noalias() = StrainTensors(b).transpose() * x;
+  MatVec(b.strain_tensors, x.data(), h->data());
 }
 
 // out += Σ_k y_k H_k q for strain forces y (r): the modal kernel's [H_k q] y, or the
@@ -120,7 +115,7 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
   // One product for S̄ q, M_ff q, S̃ q, K q (and W q): each row's sum in the same order as
   // separate products, one call instead of four or five.
-  s->q_products.noalias() = b.q_products * q;
+  MatVec(b.q_products, q.data(), s->q_products.data());
   s->s += s->q_products.head<2>();
   s->w = b.I1 + s->q_products.segment(2, n);
   s->c = b.Ibar + s->q_products.segment(2 + n, n);
@@ -132,7 +127,7 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
     s->Kq += s->Fg;
   }
   if (!dynamics) return;
-  s->qd_products.noalias() = b.qd_products * qd;
+  MatVec(b.qd_products, qd.data(), s->qd_products.data());
   s->Sqd = s->qd_products.head(n);
   if (b.strain_damping) {
     UpdateStrainDamping(b, qd, s);
@@ -172,8 +167,9 @@ void AddSecondOrderStrainJacobian(const Body& b, const CMap& q, const CMap& qd, 
     s->Jg += s->Jkv_q;
     s->kg_weights += s->damping_eta;
   }
-  Eigen::Map<Vec>(s->Jg.data(), static_cast<Eigen::Index>(n) * n).noalias() +=
-      b.strain_tensors * s->kg_weights;
+  for (Eigen::Index k = 0; k < s->kg_weights.size(); ++k) {
+    s->Jg += s->kg_weights(k) * b.strain_tensors.middleRows(k * n, n);
+  }
 }
 
 // M(θ, q), ffrf-planar.md "Mass matrix".
@@ -228,11 +224,15 @@ void UpdateMarker(const Mechanism& model, int mi, RunData* data, const double* p
   Vec2 Suqd = Vec2::Zero();
   double phi = pb[kTheta] + mk.angle, omega = vb[kTheta];
   if (n > 0) {
-    CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
-    ubar.noalias() += mk.S_u * q;
-    Suqd.noalias() = mk.S_u * qd;
-    phi += mk.S_phi.transpose().dot(q);
-    omega += mk.S_phi.transpose().dot(qd);
+    // S_u q, S_u q̇, S_φ q, S_φ q̇ in one pass over the columns (as in AddMarkerForce).
+    const double* q = pb + kFirstMode;
+    const double* qd = vb + kFirstMode;
+    for (int i = 0; i < n; ++i) {
+      ubar += mk.S_u.col(i) * q[i];
+      Suqd += mk.S_u.col(i) * qd[i];
+      phi += mk.S_phi(i) * q[i];
+      omega += mk.S_phi(i) * qd[i];
+    }
   }
   const double thd = vb[kTheta];
   ms.Au = s.A * ubar;
@@ -320,10 +320,13 @@ void AddMarkerForce(const Mechanism& model, int mi, const RunData& data, const V
   t[kTheta] += Jm(ms.Au).dot(F) + moment;
   const int n = b.num_modes;
   if (n > 0) {
-    VMap tq(t + kFirstMode, n);
+    // S_uᵀ Aᵀ F + S_φᵀ m, a loop over the columns of S_u (2 × n): Eigen's general product for
+    // a transposed dynamic-width matrix costs more than the arithmetic at this size.
     const Vec2 Fl = data.bodies[mk.body].A.transpose() * F;
-    tq.noalias() += mk.S_u.transpose() * Fl;
-    tq += moment * mk.S_phi.transpose();
+    double* tq = t + kFirstMode;
+    for (int i = 0; i < n; ++i) {
+      tq[i] += mk.S_u(0, i) * Fl.x() + mk.S_u(1, i) * Fl.y() + moment * mk.S_phi(i);
+    }
   }
 }
 

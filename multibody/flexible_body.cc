@@ -102,11 +102,11 @@ void SetSecondOrderStrain(const fem::ReducedRod& rod, FlexibleBodySpec::StrainKe
   b->element_strain_basis = V;
   b->strain_elongation = V.transpose() * E;
   b->strain_to_q = space.shortening_to_q * V;
-  b->strain_tensors = Mat::Zero(static_cast<Eigen::Index>(n) * n, r);
+  b->strain_tensors = Mat::Zero(static_cast<Eigen::Index>(n) * r, n);
   for (int e = 0; e < ne; ++e) {
     const auto Te = b->transverse_rows.middleRows<4>(2 * e);
     const Mat G = Te.transpose() * b->element_Kg * Te;
-    b->strain_tensors.noalias() += Eigen::Map<const Vec>(G.data(), G.size()) * V.row(e);
+    for (int k = 0; k < r; ++k) b->strain_tensors.middleRows(k * n, n) += V(e, k) * G;
   }
   using Kernel = FlexibleBodySpec::StrainKernel;
   b->modal_strain_kernel =

@@ -192,8 +192,8 @@ struct Body {
   Eigen::Matrix4d element_Kg;  ///< K_G on w_e per newton of tension [1/m]
   /// V (n_e × r), orthonormal columns spanning the elongation fields δ(q) = E q: P = V Vᵀ.
   Mat element_strain_basis;
-  /// Column k: H_k = Σ_e V_ek G_e (n × n, column-major) [1/m] (n² × r), so that a weighted sum
-  /// Σ_k c_k H_k is one matrix-vector product.
+  /// Rows k n … k n + n − 1: H_k = Σ_e V_ek G_e [1/m] (n r × n), so that the r products
+  /// [H_k x] are one matrix-vector product with long columns.
   Mat strain_tensors;
   Mat strain_elongation;  ///< W = Vᵀ E (r × n): the strain coordinates' linear part [m]
   /// B = E⁺ V (n × r): q̃ = q + B σ(q) has the strains as elongations, E q̃ = V a.

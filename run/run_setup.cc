@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/matvec.h"
 #include "common/units.h"
 #include "input/output_selection.h"
 #include "mechanisms/exact_rod_view.h"
@@ -80,23 +81,36 @@ void DefineReducedRodChannels(const Config& cfg, const MechanismModel& mm, Recor
   const double E = rod.rod.material.youngs_modulus;
   const double y = rod.rod.section.half_depth_in_plane();
   const std::vector<double> xs = GaugePositions(cfg, rod.rod);
-  for (size_t g = 0; g < xs.size(); ++g) {
+  // All gauges in one channel group (strain, stress of gauge 1, then gauge 2, ...): their linear
+  // rows as one product, and with rod.geometric_stiffening the second-order parts too (their
+  // n × n matrices stacked), instead of a small product per gauge and sample.
+  const int num_gauges = static_cast<int>(xs.size());
+  const bool membrane = cfg.Bool("rod.geometric_stiffening");
+  Mat rows(num_gauges, n), membranes(membrane ? num_gauges * n : 0, n);
+  std::vector<Recorder::Spec> gauge_channels;
+  for (int g = 0; g < num_gauges; ++g) {
     const std::string name = "gauge" + std::to_string(g + 1);
-    const fem::StrainGaugeRows rows = rod.Gauge(name, xs[g], y);
-    const RowVec strain_row = rows.axial + rows.bending;
+    const fem::StrainGaugeRows r = rod.Gauge(name, xs[g], y);
+    rows.row(g) = r.axial + r.bending;
     // The second-order axial strain (rod.geometric_stiffening): the chord's shortening.
-    const Mat membrane = cfg.Bool("rod.geometric_stiffening") ? rows.membrane : Mat();
-    rec->Add({{"strain_" + name, "1"}, {"stress_" + name, "Pa"}},
-             [=, work = Vec(n)](const SampleView& s, double* v) mutable {
-               const Eigen::Map<const Vec> q(s.y() + q0, n);
-               v[0] = strain_row.dot(q);
-               if (membrane.size() > 0) {  // no allocation per sample: the product into work
-                 work.noalias() = membrane * q;
-                 v[0] += q.dot(work);
-               }
-               v[1] = E * v[0];
-             });
+    if (membrane) membranes.middleRows(g * n, n) = r.membrane;
+    gauge_channels.push_back({"strain_" + name, "1"});
+    gauge_channels.push_back({"stress_" + name, "Pa"});
     (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
+  }
+  if (num_gauges > 0) {
+    rec->Add(std::move(gauge_channels), [=, linear = Vec(num_gauges), work = Vec(membranes.rows())](
+                                            const SampleView& s, double* v) mutable {
+      const Eigen::Map<const Vec> q(s.y() + q0, n);
+      MatVec(rows, q.data(), linear.data());  // no allocation per sample: into work
+      if (membrane) MatVec(membranes, q.data(), work.data());
+      for (int g = 0; g < num_gauges; ++g) {
+        double strain = linear(g);
+        if (membrane) strain += q.dot(work.segment(g * n, n));
+        v[2 * g] = strain;
+        v[2 * g + 1] = E * strain;
+      }
+    });
   }
   std::vector<Recorder::Spec> modal;
   for (int k = 0; k < n; ++k) {

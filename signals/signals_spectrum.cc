@@ -161,15 +161,20 @@ const char* ToString(Window window) {
 
 void FillWindow(Window window, std::span<double> w) {
   const std::span<const double> a = Coefficients(window);
-  const double n = static_cast<double>(w.size());
-  for (std::size_t j = 0; j < w.size(); ++j) {
+  // Periodic: w_j = w_{n−j}, so the second half mirrors the first (half the cosines: a long
+  // capture's window has millions of samples).
+  const std::size_t size = w.size();
+  if (size == 0) return;
+  const double n = static_cast<double>(size);
+  for (std::size_t j = 0; j <= size / 2; ++j) {
     const double z = 2.0 * std::numbers::pi * static_cast<double>(j) / n;
-    double sum = 0.0;
-    double sign = 1.0;
-    for (std::size_t k = 0; k < a.size(); ++k, sign = -sign) {
+    double sum = a[0];
+    double sign = -1.0;
+    for (std::size_t k = 1; k < a.size(); ++k, sign = -sign) {
       sum += sign * a[k] * std::cos(static_cast<double>(k) * z);
     }
     w[j] = sum;
+    if (j > 0) w[size - j] = sum;
   }
 }
 
