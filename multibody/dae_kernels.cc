@@ -37,7 +37,7 @@ void StrainTensorProducts(const Body& b, const CMap& x, Mat* h) {
 // elements' Tᵀ Σ_e (V y)_e K_G w_e (needs UpdateSecondOrderStrain at q).
 void AddStrainGradient(const Body& b, const Vec& y, BodyScratch* s, Vec* out) {
   if (b.modal_strain_kernel) {
-    out->noalias() += s->strain_h * y;
+    MatVec<true>(s->strain_h, y.data(), out->data());
     return;
   }
   s->element_force.noalias() = b.element_strain_basis * y;
@@ -52,7 +52,8 @@ void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
   const double k = b.element_axial_stiffness;
   if (b.modal_strain_kernel) {
     StrainTensorProducts(b, q, &s->strain_h);
-    s->strain_coef.noalias() = 0.5 * (s->strain_h.transpose() * q);
+    MatTVec(s->strain_h, q.data(), s->strain_coef.data());
+    s->strain_coef *= 0.5;
   } else {
     s->node_w.noalias() = b.transverse_rows * q;
     for (int e = 0; e < b.num_strain_elements; ++e) {
@@ -65,7 +66,8 @@ void UpdateSecondOrderStrain(const Body& b, const CMap& q, BodyScratch* s) {
   }
   s->strain_force =
       k * (s->q_products.tail(s->strain_coef.size()) + s->strain_coef);  // k (W q + σ)
-  s->Fg.noalias() = k * (b.strain_elongation.transpose() * s->strain_coef);
+  MatTVec(b.strain_elongation, s->strain_coef.data(), s->Fg.data());
+  s->Fg *= k;
   AddStrainGradient(b, s->strain_force, s, &s->Fg);
 }
 
@@ -541,12 +543,12 @@ void HessianTimesVelocity(const Mechanism& model, const Joint& jt, const double*
     js->vb = CMap(v + bb.coordinate_offset, bb.num_coordinates());
   }
   if (a >= 0) {
-    js->ha.noalias() = js->Haa * js->va;
-    if (b >= 0) js->ha.noalias() += js->Hab * js->vb;
+    MatVec(js->Haa, js->va.data(), js->ha.data());
+    if (b >= 0) MatVec<true>(js->Hab, js->vb.data(), js->ha.data());
   }
   if (b >= 0) {
-    js->hb.noalias() = js->Hbb * js->vb;
-    if (a >= 0) js->hb.noalias() += js->Hba * js->va;
+    MatVec(js->Hbb, js->vb.data(), js->hb.data());
+    if (a >= 0) MatVec<true>(js->Hba, js->va.data(), js->hb.data());
   }
 }
 
