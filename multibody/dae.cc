@@ -51,7 +51,7 @@ double BodyKineticEnergy(const Body& body, const Vec& pb, const Vec& vb) {
   BodyScratch s;
   ResizeBodyScratch(body, &s);
   UpdateBody(body, pb.data(), vb.data(), &s);
-  return KineticEnergy(body, s, pb.data(), vb.data());
+  return KineticEnergy(body, &s, pb.data(), vb.data());
 }
 
 Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb) {
@@ -69,33 +69,11 @@ void UpdateKinematics(const Mechanism& model, RunData* data, const double* y) {
   UpdateAll(model, data, y, y + model.num_coordinates(), /*dynamics=*/false);
 }
 
-double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, const double* vb) {
-  // ½ vᵀ M v with the blocks of FillMassMatrix, without forming M (energies are sampled at the
-  // output rate).
-  const int n = b.num_modes;
-  const Vec2 Rd(vb[kX], vb[kY]);
-  const double thd = vb[kTheta];
-  const Vec2 AJs = s.A * Jm(s.s);
-  double mtt = b.J0;
-  double twice = b.mass * Rd.squaredNorm() + 2.0 * thd * AJs.dot(Rd);
-  if (n > 0) {
-    // Loops over the n modes, as in MassTimes.
-    const double* q = pb + kFirstMode;
-    const double* qd = vb + kFirstMode;
-    Vec2 Sqd = Vec2::Zero();
-    double cqd = 0.0, qMq = 0.0;
-    for (int j = 0; j < n; ++j) {
-      mtt += q[j] * (b.I1(j) + s.w(j));
-      Sqd += b.Sbar.col(j) * qd[j];
-      cqd += s.c(j) * qd[j];
-      const double* col = b.Mff.col(j).data();
-      double Mq = 0.0;
-      for (int i = 0; i < n; ++i) Mq += col[i] * qd[i];
-      qMq += qd[j] * Mq;
-    }
-    twice += 2.0 * Rd.dot(s.A * Sqd) + 2.0 * thd * cqd + qMq;
-  }
-  return 0.5 * (twice + mtt * thd * thd);
+double KineticEnergy(const Body& b, BodyScratch* s, const double* pb, const double* vb) {
+  // ½ vᵀ (M v), M v from MassTimes (M is not formed; energies are sampled at the output rate).
+  const int nb = b.num_coordinates();
+  MassTimes(b, *s, pb, vb, s->tmp.data());
+  return 0.5 * CMap(vb, nb).dot(s->tmp.head(nb));
 }
 
 void MassTimes(const Body& b, const BodyScratch& s, const double* pb, const double* a,

@@ -51,8 +51,8 @@ Vec BodyQuadraticVelocity(const Body& body, const Vec& pb, const Vec& vb);
 void UpdateKinematics(const Mechanism& model, RunData* data, const double* y);
 
 /// Kinetic energy ½ vᵀM v of one body [J] (after UpdateKinematics; pb, vb: its coordinates
-/// and velocities).
-double KineticEnergy(const Body& b, const BodyScratch& s, const double* pb, const double* vb);
+/// and velocities [m, rad, 1; m/s, rad/s, 1/s]); M v goes through MassTimes into s->tmp.
+double KineticEnergy(const Body& b, BodyScratch* s, const double* pb, const double* vb);
 /// M(θ, q) a of one body into out[0, 3 + n) (after UpdateBody), without forming M: the
 /// residual's M v̇.
 void MassTimes(const Body& b, const BodyScratch& s, const double* pb, const double* a, double* out);

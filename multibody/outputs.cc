@@ -118,7 +118,7 @@ EnergyReport CalcEnergies(const Mechanism& model, RunData* data, const double* y
     const Body& b = bodies[bi];
     BodyScratch& s = data->bodies[bi];
     const int o = b.coordinate_offset, n = b.num_modes;
-    e.kinetic += KineticEnergy(b, s, y + o, y + np + o);
+    e.kinetic += KineticEnergy(b, &s, y + o, y + np + o);
     const Vec2 R(y[o + kX], y[o + kY]);
     e.gravity -= g.dot(b.mass * R + s.A * s.s);
     if (n > 0) {

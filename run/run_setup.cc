@@ -102,7 +102,7 @@ void DefineReducedRodChannels(const Config& cfg, const MechanismModel& mm, Recor
     rec->Add(std::move(gauge_channels), [=, linear = Vec(num_gauges), work = Vec(membranes.rows())](
                                             const SampleView& s, double* v) mutable {
       const Eigen::Map<const Vec> q(s.y() + q0, n);
-      MatVec(rows, q.data(), linear.data());  // no allocation per sample: into work
+      MatVec(rows, q.data(), linear.data());  // into linear and work: no allocation
       if (membrane) MatVec(membranes, q.data(), work.data());
       for (int g = 0; g < num_gauges; ++g) {
         double strain = linear(g);
