@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `flexrod run [preset-or-file.toml] [--set key=value ...] [--out DIR]` and `flexrod keys`.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +59,16 @@ void PrintFigures(const RunOptions& opt, const RunResult& run) {
         "%.1f %%, output %.1f %%, the rest (IDA, events, step bookkeeping) %.1f %%\n",
         100.0 * st.residual_seconds / w, 100.0 * st.jacobian_seconds / w,
         100.0 * st.linear_solve_seconds / w, 100.0 * output / w, 100.0 * rest / w);
+  }
+  if (opt.profile && st.steps > 0 && !run.status.step_limiting.empty()) {
+    // The unknowns with the largest weighted local error after a step: what sets the step.
+    std::printf("  step set by (--profile, largest weighted local error):");
+    const auto& limiting = run.status.step_limiting;
+    for (size_t k = 0; k < std::min<size_t>(limiting.size(), 4); ++k) {
+      std::printf("%s %s %.0f %%", k > 0 ? "," : "", limiting[k].first.c_str(),
+                  100.0 * static_cast<double>(limiting[k].second) / static_cast<double>(st.steps));
+    }
+    std::printf("\n");
   }
   std::printf("  samples: %zu at %.6g Hz from t = %.6g s\n", run.channels.num_samples(),
               run.channels.sample_rate(), run.channels.start_time());
@@ -186,7 +197,8 @@ void RegisterRun(CLI::App& app, Handler* handler) {
   cmd->add_flag("--profile", opt->profile,
                 "time the integrator's residuals, Jacobians and linear solves (clock reads around "
                 "each call: a few % slower) and print their shares of the solver wall (summary "
-                "integrator residual_time, jacobian_time, linear_solve_time)");
+                "integrator residual_time, jacobian_time, linear_solve_time), and the unknowns "
+                "whose local error sets the step (summary integrator step_limiting_unknowns)");
   cmd->add_option(
       "--vtk", opt->vtk_dir,
       "write a ParaView time series (DIR/run.pvd + one .vtu per frame) of the deformed rod, "

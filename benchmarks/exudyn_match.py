@@ -11,8 +11,8 @@ process; per case it prints the process CPU time (user + system, every thread: t
 on a second core when there is one), the minimum over the rounds, the ratio to Exudyn's CPU
 time on this machine class, and the run's steps, residuals, Jacobians, events and, from one more
 run with `--profile` (not timed: its clock reads cost a few percent), the shares of the solver
-wall spent in residuals, Jacobians, linear solves, output and the rest. Timing only: never a
-test.
+wall spent in residuals, Jacobians, linear solves, output and the rest, and the unknowns whose
+local error estimate set the step. Timing only: never a test.
 
 Exudyn's CPU times are the ones the input file's header quotes (Exudyn 1.11, fixed-step
 generalised-alpha, 10 Craig-Bampton modes of a 2565-dof solid rod, one core): ideal joint
@@ -74,6 +74,11 @@ def describe_shares(s):
     print("    run   solver wall shares (one more run, --profile): "
           + ", ".join("%s %.0f %%" % (name, 100.0 * t / wall) for name, t in parts)
           + ", the rest (IDA, events, step bookkeeping) %.0f %%" % (100.0 * rest / wall))
+    limiting = it.get("step_limiting_unknowns", [])
+    if limiting and it["steps"] > 0:
+        print("    run   step set by (largest weighted local error after a step): "
+              + ", ".join("%s %.0f %%" % (u["unknown"], 100.0 * u["steps"] / it["steps"])
+                          for u in limiting[:4]))
 
 
 def main(argv):

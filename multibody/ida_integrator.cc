@@ -85,6 +85,9 @@ struct IdaIntegrator::Impl {
   std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
   long sparse_jacobians{0};           // Jacobians gathered into the sparse pattern so far
   bool time_calls{false};             // IntegratorOptions::time_calls
+  bool suppress_algebraic{true};      // IntegratorOptions::suppress_algebraic
+  std::vector<long> step_limiting;    // IntegratorOptions::count_step_limiting, by unknown
+  long step_limiting_counted{0};      // IDA's step counter at the last count (since IDAReInit)
   double t_returned{
       std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it) [s]
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
@@ -127,6 +130,10 @@ struct IdaIntegrator::Impl {
   /// to kGuardedEtaMax if more than half of them failed the error test, or lifts the limit
   /// after kGuardedWindows guarded windows (kGrowthWindow, above).
   void GuardStepGrowth();
+  /// IntegratorOptions::count_step_limiting: after a step, the unknown under error control
+  /// (id_i = 1, or every unknown if algebraic ones are not suppressed) with the largest
+  /// |e_i| w_i counts one step; a call that took no new step counts nothing.
+  void CountStepLimiting();
   /// Back to IDA's own step growth (IDASetEtaMax: a value <= 1 restores its default).
   void LiftStepGrowthGuard() {
     CheckFlag(IDASetEtaMax(mem, 0.0), "IDASetEtaMax");
@@ -349,6 +356,7 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   CheckFlag(IDAReInit(mem, t0, y, yp), "IDAReInit");
   if (guarded_windows_left > 0) LiftStepGrowthGuard();  // a restart grows its steps anew
   window_steps = window_error_test_failures = 0;
+  step_limiting_counted = 0;
   newton_rate_factor = 20.0;
   t_returned = std::numeric_limits<double>::quiet_NaN();  // y holds no step's φ₀ now
   ++reinits;
@@ -392,6 +400,8 @@ void IdaIntegrator::Impl::CreateIda(double t0, const IntegratorOptions& options)
   scale_algebraic = options.scale_algebraic_weights_by_step;
   initial_step = options.initial_step;
   time_calls = options.time_calls;
+  suppress_algebraic = options.suppress_algebraic;
+  if (options.count_step_limiting) step_limiting.assign(n, 0);
   CheckFlag(IDAWFtolerances(mem, IdaErrorWeights), "IDAWFtolerances");
   CheckFlag(IDASetId(mem, id), "IDASetId");
   CheckFlag(IDASetSuppressAlg(mem, options.suppress_algebraic ? SUNTRUE : SUNFALSE),
@@ -437,6 +447,29 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
     CheckFlag(IDARootInit(mem, nr, IdaRoots), "IDARootInit");
     CheckFlag(IDASetNoInactiveRootWarn(mem), "IDASetNoInactiveRootWarn");
   }
+}
+
+void IdaIntegrator::Impl::CountStepLimiting() {
+  long steps = 0;
+  CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
+  if (steps == step_limiting_counted) return;
+  step_limiting_counted = steps;
+  CheckFlag(IDAGetErrWeights(mem, tmp), "IDAGetErrWeights");
+  CheckFlag(IDAGetEstLocalErrors(mem, tmp2), "IDAGetEstLocalErrors");
+  const double* w = NV_DATA_S(tmp);
+  const double* e = NV_DATA_S(tmp2);
+  const double* controlled = NV_DATA_S(id);
+  int worst = -1;
+  double largest = -1.0;
+  for (int i = 0; i < n; ++i) {
+    if (suppress_algebraic && controlled[i] == 0.0) continue;
+    const double we = std::abs(w[i] * e[i]);
+    if (we > largest) {
+      largest = we;
+      worst = i;
+    }
+  }
+  if (worst >= 0) ++step_limiting[worst];
 }
 
 void IdaIntegrator::Impl::GuardStepGrowth() {
@@ -505,6 +538,7 @@ StepResult IdaIntegrator::Step(double tout) {
     std::rethrow_exception(e);
   }
   if (flag >= 0) I.GuardStepGrowth();
+  if (flag >= 0 && !I.step_limiting.empty()) I.CountStepLimiting();
   StepResult out;
   if (flag < 0) {
     // Input-type failures return before IDA sets tret: report IDA's current time instead.
@@ -651,6 +685,10 @@ void IdaIntegrator::WorstLocalError(int* index, double* weighted_error) {
       *index = i;
     }
   }
+}
+
+const std::vector<long>& IdaIntegrator::step_limiting_counts() const {
+  return impl_->step_limiting;
 }
 
 double IdaIntegrator::current_time() const {

@@ -98,6 +98,10 @@ struct IntegratorOptions {
   /// residual_seconds, ...; zero otherwise). Two clock reads per call: about 2 % of a rigid
   /// rig's run, whose callbacks take microseconds.
   bool time_calls{false};
+  /// After each step, count the unknown under error control with the largest weighted local
+  /// error estimate |e_i| w_i (IDAGetEstLocalErrors, IDAGetErrWeights): the unknown that sets
+  /// the step size (IdaIntegrator::step_limiting_counts). About 4 N operations a step.
+  bool count_step_limiting{false};
   /// Throws InputError naming integrator.<field>.
   void Validate() const;
 };
@@ -188,6 +192,10 @@ class IdaIntegrator {
   void RootInfo(int* roots_found);
   /// Index of the unknown with the largest weighted local error estimate, and that value.
   void WorstLocalError(int* index, double* weighted_error);
+  /// IntegratorOptions::count_step_limiting: for each unknown, the steps after which it had the
+  /// largest weighted local error estimate among the unknowns under error control (their sum
+  /// is the number of steps); empty otherwise.
+  const std::vector<long>& step_limiting_counts() const;
   double current_time() const;
   IntegratorStats stats() const;
   LinearSolverKind linear_solver() const { return solver_kind_; }

@@ -283,6 +283,10 @@ struct SimulationStatus {
   /// On failure: every body's rigid coordinates and velocities (x, y, θ) at the last state IDA
   /// returned, by variable name ("p[crank.theta]" [m or rad], "v[crank.theta]" [m/s or rad/s]).
   std::vector<std::pair<std::string, double>> failure_state;
+  /// IntegratorOptions::count_step_limiting: the unknowns that had the largest weighted local
+  /// error estimate after a step ("v[rod.q2]"), each with the number of such steps, most steps
+  /// first (the counts sum to the steps taken); empty otherwise.
+  std::vector<std::pair<std::string, long>> step_limiting;
   long num_samples{0};
   long root_stall_restarts{0};  ///< re-initialisations past a root function stuck at zero
   int unknowns{0};              ///< unknowns IDA integrated (model.size() less the prescribed)

@@ -122,6 +122,14 @@ class SimulationLoop {
     }
     status_.stats = ida_.stats();
     status_.output_seconds = output_seconds_;
+    const std::vector<long>& limiting = ida_.step_limiting_counts();
+    for (size_t i = 0; i < limiting.size(); ++i) {
+      if (limiting[i] == 0) continue;
+      const int full = prescribed_.kept_unknowns()[i];
+      status_.step_limiting.emplace_back(model_.VariableName(full), limiting[i]);
+    }
+    std::stable_sort(status_.step_limiting.begin(), status_.step_limiting.end(),
+                     [](const auto& a, const auto& b) { return a.second > b.second; });
     return status_;
   }
 

@@ -33,7 +33,8 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 namespace {
 
 /// The integrator's status and counters; with `profiled` (RunOutputOptions::profile) also the
-/// wall time of its residuals, Jacobians and linear solves.
+/// wall time of its residuals, Jacobians and linear solves, and the unknowns that set the step
+/// (SimulationStatus::step_limiting, most steps first).
 nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) {
   nlohmann::json j = {{"outcome", multibody::ToString(st.outcome)},
                       {"t_reached [s]", st.t_reached},
@@ -60,6 +61,11 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
     j["residual_time [s]"] = st.stats.residual_seconds;
     j["jacobian_time [s]"] = st.stats.jacobian_seconds;
     j["linear_solve_time [s]"] = st.stats.linear_solve_seconds;
+    nlohmann::json limiting = nlohmann::json::array();
+    for (const auto& [unknown, steps] : st.step_limiting) {
+      limiting.push_back({{"unknown", unknown}, {"steps", steps}});
+    }
+    j["step_limiting_unknowns"] = limiting;
   }
   return j;
 }
@@ -211,6 +217,7 @@ multibody::SimulationOptions RunOptions(const SimOptions& sim, const MechanismMo
   }
   opt.time_elements = profile;
   opt.integrator.time_calls = profile;
+  opt.integrator.count_step_limiting = profile;
   opt.stop = stop;
   opt.Validate(m);
   return opt;

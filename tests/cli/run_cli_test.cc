@@ -130,7 +130,8 @@ TEST(RunCli, CheckWritesTheDifferencesAtTighterTolerances) {
 }
 
 // `run --profile` times the integrator's calls: the summary carries their wall times, each
-// within the solver wall and together no more than it, and the report prints their shares.
+// within the solver wall and together no more than it, and the report prints their shares;
+// it also counts, step by step, the unknown whose local error estimate set the step.
 TEST(RunCli, ProfileWritesAndPrintsTheIntegratorsTimeShares) {
   const fs::path out = ScratchPath("cli_profile");
   const CommandResult r = Flexrod(
@@ -151,6 +152,16 @@ TEST(RunCli, ProfileWritesAndPrintsTheIntegratorsTimeShares) {
     sum += t;
   }
   EXPECT_LE(sum, wall);
+  // The unknowns that set the step: one per step, so their counts add up to the steps.
+  EXPECT_NE(r.output.find("step set by (--profile, largest weighted local error): "),
+            std::string::npos)
+      << r.output;
+  long counted = 0;
+  for (const auto& u : it["step_limiting_unknowns"]) {
+    EXPECT_FALSE(u["unknown"].get<std::string>().empty());
+    counted += u["steps"].get<long>();
+  }
+  EXPECT_EQ(counted, it["steps"].get<long>());
   fs::remove_all(out);
   // Without the flag, nothing is timed and nothing is printed.
   const CommandResult plain = Flexrod(
@@ -158,7 +169,10 @@ TEST(RunCli, ProfileWritesAndPrintsTheIntegratorsTimeShares) {
   ASSERT_EQ(plain.exit_code, 0);
   EXPECT_EQ(plain.output.find("solver wall shares"), std::string::npos);
   std::ifstream in2(out / "summary.json");
-  EXPECT_FALSE(nlohmann::json::parse(in2)["integrator"].contains("residual_time [s]"));
+  const nlohmann::json plain_integrator = nlohmann::json::parse(in2)["integrator"];
+  EXPECT_FALSE(plain_integrator.contains("residual_time [s]"));
+  EXPECT_FALSE(plain_integrator.contains("step_limiting_unknowns"));
+  EXPECT_EQ(plain.output.find("step set by"), std::string::npos);
   fs::remove_all(out);
 }
 

@@ -2,12 +2,14 @@
 // against closed-form solutions: speed-profile driver (exact integral, torque = I α), DC
 // motor spin-up (first-order response), viscous guide damping (exponential decay), Coulomb
 // guide friction (constant deceleration), spring-damper and rotational-spring oscillators,
-// and the reaction forces of revolute, ground and weld joints.
+// the reaction forces of revolute, ground and weld joints, and which oscillator's unknowns the
+// integrator reports as setting the step.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "mb_test_util.h"
 #include "multibody/outputs.h"
@@ -306,6 +308,70 @@ TEST(JointReactions, GroundAndWeldJointsCarryWeightAndMoment) {
   EXPECT_NEAR(rw.force_j.y(), 0.7 * g, 1e-12);
   const Vec2 lever = rot(th, c2 - Vec2(0.05, 0.0));  // marker → centre of mass
   EXPECT_NEAR(rw.moment_j, 0.7 * g * lever.x(), 1e-12);
+}
+
+// Two sliders, a and b, on parallel guides, each on a spring to ground and released 0.1 m from
+// equilibrium: ω_fast = 200 rad/s, ω_slow = 20 rad/s. A BDF method of order k has a local error
+// of about C (h ω)^(k+1) times the amplitude in x and ω times that in ẋ, so at one step size the
+// fast slider's error exceeds the slow one's by (ω_fast / ω_slow)^(k+1) >= 100, and the fast
+// slider's unknowns must set (nearly) every step; exchanging the springs must move the count to
+// the other slider. One count per step: the counts add up to the steps.
+TEST(StepLimiting, TheFasterOscillatorSetsTheStep) {
+  for (const bool a_is_fast : {true, false}) {
+    MechanismBuilder b;
+    const double mass = 2.0, k_slow = 800.0, k_fast = 80000.0, L0 = 0.4;
+    for (const char* name : {"a", "b"}) {
+      const double y = name[0] == 'a' ? 0.0 : 1.0;
+      const BodyId body = b.AddRigidBody({name, mass, 1e-3, Vec2(0.0, y)});
+      const MarkerId guide = b.AddGroundMarker(std::string(name) + ".guide", Vec2(0.0, y));
+      const MarkerId slider = b.AddBodyMarker(body, std::string(name) + ".O", Vec2(0.0, 0.0));
+      PrismaticSpec ps;
+      ps.name = std::string(name) + ".guide";
+      ps.marker_i = guide;
+      ps.marker_j = slider;
+      b.AddPrismatic(ps);
+      const MarkerId anchor = b.AddGroundMarker(std::string(name) + ".anchor", Vec2(-0.5, y));
+      const bool fast = (name[0] == 'a') == a_is_fast;
+      b.AddSpringDamper(std::string(name) + ".spring", anchor, slider, fast ? k_fast : k_slow, 0.0,
+                        L0);
+    }
+    const Mechanism m = b.Build();
+    RunData data(m);
+    InitialConditionSpec ic;
+    ic.coordinates = Vec::Zero(m.num_coordinates());
+    ic.velocities = Vec::Zero(m.num_coordinates());
+    for (int body : {0, 1}) {
+      ic.coordinates(m.coordinate(BodyId{body}, kY)) = body == 0 ? 0.0 : 1.0;
+      ic.fixed_coordinates.push_back(m.coordinate(BodyId{body}, kX));
+      ic.fixed_velocities.push_back(m.coordinate(BodyId{body}, kX));
+    }
+    SimulationOptions opt;
+    opt.t_end = 0.5;
+    opt.sample_rate = 100.0;
+    opt.integrator.count_step_limiting = true;
+    const SimulationStatus st = Simulate(m, &data, ic, opt, SimulationCallbacks{});
+    ASSERT_TRUE(st.ok()) << st.Summary();
+    ASSERT_FALSE(st.step_limiting.empty());
+    const std::string fast = a_is_fast ? "[a." : "[b.";
+    long total = 0, by_fast = 0;
+    for (const auto& [name, steps] : st.step_limiting) {
+      total += steps;
+      if (name.find(fast) != std::string::npos) by_fast += steps;
+    }
+    EXPECT_EQ(total, st.stats.steps);
+    EXPECT_NE(st.step_limiting.front().first.find(fast), std::string::npos)
+        << st.step_limiting.front().first;
+    EXPECT_GE(static_cast<double>(by_fast), 0.9 * static_cast<double>(total))
+        << by_fast << " of " << total << " steps";
+  }
+  // Not asked for: nothing counted.
+  Slider s(2.0, 0.0, 0.0, 1e-3);
+  const Mechanism m = s.builder.Build();
+  RunData data(m);
+  const SimulationStatus st = Simulate(m, &data, MovingAlongX(m, s.body, 0.0, 1.0),
+                                       TightOptions(0.1), SimulationCallbacks{});
+  ASSERT_TRUE(st.ok()) << st.Summary();
+  EXPECT_TRUE(st.step_limiting.empty());
 }
 
 }  // namespace
