@@ -130,9 +130,13 @@ struct IdaIntegrator::Impl {
   /// to kGuardedEtaMax if more than half of them failed the error test, or lifts the limit
   /// after kGuardedWindows guarded windows (kGrowthWindow, above).
   void GuardStepGrowth();
+  /// The unknown with the largest weighted local error estimate |e_i| w_i of the last step
+  /// (IDAGetEstLocalErrors, IDAGetErrWeights), the first one on a tie; with controlled_only,
+  /// among the unknowns under error control (id_i = 1, or all if algebraic ones are not
+  /// suppressed). False if IDA has no estimate to give.
+  bool LargestWeightedError(bool controlled_only, int* index, double* value);
   /// IntegratorOptions::count_step_limiting: after a step, the unknown under error control
-  /// (id_i = 1, or every unknown if algebraic ones are not suppressed) with the largest
-  /// |e_i| w_i counts one step; a call that took no new step counts nothing.
+  /// with the largest |e_i| w_i counts one step; a call that took no new step counts nothing.
   void CountStepLimiting();
   /// Back to IDA's own step growth (IDASetEtaMax: a value <= 1 restores its default).
   void LiftStepGrowthGuard() {
@@ -449,27 +453,35 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
   }
 }
 
+bool IdaIntegrator::Impl::LargestWeightedError(bool controlled_only, int* index, double* value) {
+  *index = -1;
+  *value = -1.0;
+  if (IDAGetErrWeights(mem, tmp) != IDA_SUCCESS) return false;
+  if (IDAGetEstLocalErrors(mem, tmp2) != IDA_SUCCESS) return false;
+  const double* w = NV_DATA_S(tmp);
+  const double* e = NV_DATA_S(tmp2);
+  const double* controlled = NV_DATA_S(id);
+  for (int i = 0; i < n; ++i) {
+    if (controlled_only && suppress_algebraic && controlled[i] == 0.0) continue;
+    const double we = std::abs(w[i] * e[i]);
+    if (we > *value) {
+      *value = we;
+      *index = i;
+    }
+  }
+  return true;
+}
+
 void IdaIntegrator::Impl::CountStepLimiting() {
   long steps = 0;
   CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
   if (steps == step_limiting_counted) return;
   step_limiting_counted = steps;
-  CheckFlag(IDAGetErrWeights(mem, tmp), "IDAGetErrWeights");
-  CheckFlag(IDAGetEstLocalErrors(mem, tmp2), "IDAGetEstLocalErrors");
-  const double* w = NV_DATA_S(tmp);
-  const double* e = NV_DATA_S(tmp2);
-  const double* controlled = NV_DATA_S(id);
   int worst = -1;
-  double largest = -1.0;
-  for (int i = 0; i < n; ++i) {
-    if (suppress_algebraic && controlled[i] == 0.0) continue;
-    const double we = std::abs(w[i] * e[i]);
-    if (we > largest) {
-      largest = we;
-      worst = i;
-    }
+  double largest = 0.0;
+  if (LargestWeightedError(/*controlled_only=*/true, &worst, &largest) && worst >= 0) {
+    ++step_limiting[worst];
   }
-  if (worst >= 0) ++step_limiting[worst];
 }
 
 void IdaIntegrator::Impl::GuardStepGrowth() {
@@ -671,19 +683,11 @@ void IdaIntegrator::RootInfo(int* roots_found) {
 }
 
 void IdaIntegrator::WorstLocalError(int* index, double* weighted_error) {
-  *index = -1;
-  *weighted_error = 0.0;
-  if (!initialized_) return;
-  if (IDAGetErrWeights(impl_->mem, impl_->tmp) != IDA_SUCCESS) return;
-  if (IDAGetEstLocalErrors(impl_->mem, impl_->tmp2) != IDA_SUCCESS) return;
-  const double* w = NV_DATA_S(impl_->tmp);
-  const double* e = NV_DATA_S(impl_->tmp2);
-  for (int i = 0; i < impl_->n; ++i) {
-    const double we = std::abs(w[i] * e[i]);
-    if (we > *weighted_error) {
-      *weighted_error = we;
-      *index = i;
-    }
+  const bool ok =
+      initialized_ && impl_->LargestWeightedError(/*controlled_only=*/false, index, weighted_error);
+  if (!ok || *weighted_error <= 0.0) {  // no estimate, or every error zero: none is the worst
+    *index = -1;
+    *weighted_error = 0.0;
   }
 }
 
