@@ -33,9 +33,10 @@ ContactPoint MakeContactPoint(double time, double crank_angle,
 }
 
 void ImpactLogger::Observe(const ContactPoint& p) {
+  const ContactPoint& last = last_point();
   if (!started_ || p.onsets != onsets_seen_) {
     // The first point, or the point of a located onset (the joint's count moved).
-    if (is_open_) Close(last_.time, false);  // its separation was not offered
+    if (is_open_) Close(last.time, false);  // its separation was not offered
     if (p.contact) {
       open_ = Impact{};
       open_.complete = started_;
@@ -49,7 +50,7 @@ void ImpactLogger::Observe(const ContactPoint& p) {
     started_ = true;
     onsets_seen_ = p.onsets;
   } else if (is_open_) {
-    open_.dissipated_energy += 0.5 * (last_.dissipation + p.dissipation) * (p.time - last_.time);
+    open_.dissipated_energy += 0.5 * (last.dissipation + p.dissipation) * (p.time - last.time);
   }
   if (is_open_) {
     if (p.normal_force > open_.peak_force) {
@@ -59,7 +60,15 @@ void ImpactLogger::Observe(const ContactPoint& p) {
     open_.peak_penetration = std::max(open_.peak_penetration, p.penetration);
     if (!p.contact) Close(p.time, open_.complete);  // the located separation
   }
-  last_ = p;
+  recent_[num_offered_++ % recent_.size()] = p;
+}
+
+const ContactPoint* ImpactLogger::RecentPoint(double t) const {
+  for (std::size_t k = 0; k < std::min(num_offered_, recent_.size()); ++k) {
+    const ContactPoint& p = recent_[(num_offered_ - 1 - k) % recent_.size()];
+    if (p.time == t) return &p;
+  }
+  return nullptr;
 }
 
 void ImpactLogger::ObservePeak(double time, double normal_force, double penetration) {
@@ -71,9 +80,13 @@ void ImpactLogger::ObservePeak(double time, double normal_force, double penetrat
   open_.peak_penetration = std::max(open_.peak_penetration, penetration);
 }
 
-LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b) {
+LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b,
+                                     double wanted_above) {
   const double width = b - a, d = 1e-4 * width;
   const double fa = f(a), fb = f(b), m = 0.5 * (a + b), fm = f(m);
+  const LocatedMaximum none{a, -std::numeric_limits<double>::infinity()};
+  // Out of reach of `wanted_above`: inside an impact most steps are, once its peak has passed.
+  if (std::max({fa, fm, fb}) + std::abs(fm - fa) + std::abs(fb - fm) <= wanted_above) return none;
   // A maximum lies inside if the midpoint beats both ends, or if f rises from a and falls into b
   // (one-sided differences over 1e-4 of the step), each difference evaluated only when needed:
   // inside an impact this runs at every step, and most steps rise or fall throughout. The end
@@ -83,7 +96,7 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
     return fb > fa ? f(b - d) > fb && f(a + d) > fa : f(a + d) > fa && f(b - d) > fb;
   };
   const bool inside = fm > std::max(fa, fb) || rises_then_falls();
-  if (!inside) return {a, -std::numeric_limits<double>::infinity()};
+  if (!inside) return none;
   // Brent's method (R. P. Brent, Algorithms for Minimization without Derivatives, 1973, ch. 5)
   // on −f: a parabola through the three best points x (best), w (second), v (third) gives the
   // next point when it falls inside the bracket and moves less than half the step before last;
@@ -136,20 +149,23 @@ LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, dou
   return {x, fx};
 }
 
-void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
-                       ImpactLogger* log) {
-  if (!log->in_impact()) return;
+std::optional<multibody::ClearanceResponse> LocateImpactPeaks(
+    const multibody::StepInterpolant& step, multibody::ElementId joint, ImpactLogger* log) {
+  if (!log->in_impact()) return std::nullopt;
   // Both searches test the same points (ends, midpoint, the one-sided differences they need):
   // the second reads the first's values instead of evaluating the joint again. The step starts
-  // at the solution point the log saw last: its force and penetration are known.
+  // at a solution point the log has seen; its end is evaluated here once, for the searches and
+  // for the caller, whose next point it is.
   struct Point {
     double t, force, depth;
   };
-  std::array<Point, 5> seen;
+  std::array<Point, 6> seen;
   std::size_t num_seen = 0;
-  const ContactPoint& start = log->last_point();
-  if (start.time == step.t_begin())
-    seen[num_seen++] = {start.time, start.normal_force, start.penetration};
+  if (const ContactPoint* start = log->RecentPoint(step.t_begin()))
+    seen[num_seen++] = {start->time, start->normal_force, start->penetration};
+  const multibody::ClearanceResponse end =
+      multibody::CalcClearanceResponse(step.ElementAt(step.t_end(), joint), joint);
+  seen[num_seen++] = {step.t_end(), end.normal_force, end.kinematics.penetration};
   auto at = [&](double t) {
     for (std::size_t i = 0; i < num_seen; ++i) {
       if (seen[i].t == t) return seen[i];
@@ -160,12 +176,14 @@ void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::Elemen
     if (num_seen < seen.size()) seen[num_seen++] = p;
     return p;
   };
-  const LocatedMaximum force =
-      LocateInteriorMaximum([&](double t) { return at(t).force; }, step.t_begin(), step.t_end());
+  const LocatedMaximum force = LocateInteriorMaximum(
+      [&](double t) { return at(t).force; }, step.t_begin(), step.t_end(), log->open_peak_force());
   const LocatedMaximum depth =
-      LocateInteriorMaximum([&](double t) { return at(t).depth; }, step.t_begin(), step.t_end());
+      LocateInteriorMaximum([&](double t) { return at(t).depth; }, step.t_begin(), step.t_end(),
+                            log->open_peak_penetration());
   if (force.value > 0.0) log->ObservePeak(force.t, force.value, 0.0);
   if (depth.value > 0.0) log->ObservePeak(depth.t, 0.0, depth.value);
+  return end;
 }
 
 void ImpactLogger::Close(double t, bool complete) {
@@ -176,7 +194,7 @@ void ImpactLogger::Close(double t, bool complete) {
 }
 
 std::vector<Impact> ImpactLogger::Finish() {
-  if (is_open_) Close(last_.time, false);
+  if (is_open_) Close(last_point().time, false);
   return std::move(log_);
 }
 

@@ -20,8 +20,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,21 +69,29 @@ struct Impact {
 /// falls into b, or the midpoint beats both ends — by Brent's parabolic and golden-section search
 /// to a bracket of 1e-9 (b − a) (or of t's own resolution; at most 64 steps). Returns {t, f(t)}, or
 /// {a, −inf} when no interior point beats both ends (the ends are solution points the log sees
-/// anyway).
+/// anyway), or when f cannot reach above `wanted_above` inside: the largest of f(a), f(b) and
+/// the midpoint's f, plus f's variation over the two half-intervals, stays at or below it. (A
+/// step resolves its force: to rise above that bound, f would have to climb more within the
+/// step than it moves across both of its halves.)
 struct LocatedMaximum {
   double t{0.0};
   double value{0.0};
 };
-LocatedMaximum LocateInteriorMaximum(const std::function<double(double)>& f, double a, double b);
+LocatedMaximum LocateInteriorMaximum(
+    const std::function<double(double)>& f, double a, double b,
+    double wanted_above = -std::numeric_limits<double>::infinity());
 
 /// Inside an open impact of `log`, locates the peak normal force and penetration of the
 /// clearance joint `joint` within the integrator's step (LocateInteriorMaximum on its
 /// interpolating polynomial) and offers them (ObservePeak): the solution points alone gave
-/// peaks up to 5e-4 low. The step's start is the solution point the log saw last, whose force
-/// and penetration it takes from there. Does nothing outside an impact.
+/// peaks up to 5e-4 low. Only a peak above the open impact's peak so far is searched for. The
+/// step's start is a solution point the log has seen (ImpactLogger::RecentPoint), whose force
+/// and penetration it takes from there. Returns the joint's response at the step's end, which
+/// the search evaluates: the solution point the caller offers next (Observe it from this, not
+/// from a second evaluation). Outside an impact: does nothing and returns nullopt.
 class ImpactLogger;
-void LocateImpactPeaks(const multibody::StepInterpolant& step, multibody::ElementId joint,
-                       ImpactLogger* log);
+std::optional<multibody::ClearanceResponse> LocateImpactPeaks(
+    const multibody::StepInterpolant& step, multibody::ElementId joint, ImpactLogger* log);
 
 /// Builds the log from the solution points of a run, offered in time order (steps, located
 /// events and samples; any window of the run: the first point opens the log, the last closes it).
@@ -90,7 +101,13 @@ class ImpactLogger {
   /// True between a located onset and its separation.
   bool in_impact() const { return is_open_; }
   /// The last point offered (meaningful once one has been).
-  const ContactPoint& last_point() const { return last_; }
+  const ContactPoint& last_point() const { return recent_[(num_offered_ + 3) % 4]; }
+  /// The point at time t among the last four offered (the start of the step a peak search
+  /// covers, with at most the samples inside that step offered after it); nullptr if none.
+  const ContactPoint* RecentPoint(double t) const;
+  /// The open impact's peak force [N] and penetration [m] so far (in_impact()).
+  double open_peak_force() const { return open_.peak_force; }
+  double open_peak_penetration() const { return open_.peak_penetration; }
   /// A peak located between solution points (LocateImpactPeaks): raises the open impact's
   /// peak force and penetration if it is later than its onset and higher.
   void ObservePeak(double time, double normal_force, double penetration);
@@ -104,7 +121,8 @@ class ImpactLogger {
   bool is_open_{false};
   bool started_{false};
   long onsets_seen_{0};
-  ContactPoint last_;  // the previous point
+  std::array<ContactPoint, 4> recent_;  // the last points offered, a ring (last_point, RecentPoint)
+  std::size_t num_offered_{0};
 };
 
 /// Summary numbers of a log (complete impacts only; zeros if there are none).

@@ -392,15 +392,23 @@ RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bo
       t_last_sample = s.t();
     }
   };
+  // The joint at the end of the last step searched for peaks (the step's next reported point).
+  std::optional<multibody::ClearanceResponse> step_end;
+  double step_end_time = 0.0;
   if (impacts) {
     // The impact log also sees every integrator step and located event of the capture window
     // (from its first sample to its last); the samples reach it through the channels.
     cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
+      const bool searched = step_end && step_end_time == s.t();
       if (rec.size() == 0 ||
-          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample))
+          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample)) {
+        step_end.reset();
         return;
-      impacts->Observe(study::MakeContactPoint(s.t(), s.coordinate(crank_theta),
-                                               multibody::CalcClearanceResponse(s, mm.clearance)));
+      }
+      impacts->Observe(study::MakeContactPoint(
+          s.t(), s.coordinate(crank_theta),
+          searched ? *step_end : multibody::CalcClearanceResponse(s, mm.clearance)));
+      step_end.reset();
     };
     // Inside an impact, the peak force and penetration are located within each step (its
     // interpolating polynomial), not taken at the solution points, which can be 5e-4 low.
@@ -408,7 +416,8 @@ RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bo
       if (rec.size() == 0 ||
           (static_cast<long>(rec.size()) >= max_samples && step.t_begin() >= t_last_sample))
         return;
-      study::LocateImpactPeaks(step, mm.clearance, &*impacts);
+      step_end = study::LocateImpactPeaks(step, mm.clearance, &*impacts);
+      step_end_time = step.t_end();
     };
   }
 

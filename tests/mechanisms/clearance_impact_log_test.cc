@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "../multibody/clearance_fixture.h"
@@ -211,8 +212,24 @@ TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
     RunData data(p.model);
     ImpactLogger logger;
     SimulationCallbacks cb;
+    // The search's response at its step's end (LocateImpactPeaks's result) is the solution
+    // point's, bit for bit: run.cc observes the one in place of the other.
+    std::optional<ClearanceResponse> end;
+    double end_time = 0.0;
+    int ends = 0;
     cb.on_step = [&](const SampleView& s) {
-      logger.Observe(MakeContactPoint(s.t(), 0.0, CalcClearanceResponse(s, p.joint)));
+      const ClearanceResponse r = CalcClearanceResponse(s, p.joint);
+      if (end && end_time == s.t()) {
+        EXPECT_EQ(end->normal_force, r.normal_force);
+        EXPECT_EQ(end->friction_force, r.friction_force);
+        EXPECT_EQ(end->kinematics.penetration, r.kinematics.penetration);
+        EXPECT_EQ(end->kinematics.penetration_rate, r.kinematics.penetration_rate);
+        EXPECT_EQ(end->dissipation(), r.dissipation());
+        EXPECT_EQ(end->onsets, r.onsets);
+        ++ends;
+      }
+      end.reset();
+      logger.Observe(MakeContactPoint(s.t(), 0.0, r));
     };
     int compared = 0;  // steps in contact where ElementAt is compared with At
     if (locate) {
@@ -228,7 +245,8 @@ TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
         EXPECT_EQ(some.kinematics.penetration, all.kinematics.penetration);
         EXPECT_EQ(some.kinematics.penetration_rate, all.kinematics.penetration_rate);
         if (all.normal_force > 0.0) ++compared;
-        LocateImpactPeaks(step, p.joint, &logger);
+        end = LocateImpactPeaks(step, p.joint, &logger);
+        end_time = step.t_end();
       };
     }
     const SimulationStatus st =
@@ -243,6 +261,7 @@ TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
                 force_error, depth_error);
     if (locate) {
       EXPECT_GT(compared, 10);
+      EXPECT_GT(ends, 10);
       EXPECT_LT(force_error, 2e-6);
       EXPECT_LT(depth_error, 2e-6);
     } else {
@@ -326,6 +345,20 @@ TEST(ImpactLog, InteriorMaximumIsLocatedAndAnEndMaximumIsLeftToTheSolutionPoints
   // Monotone: the maximum is an end, a solution point the log sees anyway.
   EXPECT_EQ(LocateInteriorMaximum([](double t) { return t; }, 0.0, 1.0).value,
             -std::numeric_limits<double>::infinity());
+  // Only a maximum that could lie above `wanted_above` is searched for. The parabola's three
+  // points, 0.91, 0.96, 0.51, bound it by 0.96 + 0.05 + 0.45 = 1.46: it is searched (and its 1.0
+  // found) for 0.9 and 1.45; for 1.47 it is out of reach and costs those three evaluations alone.
+  EXPECT_DOUBLE_EQ(LocateInteriorMaximum(parabola, 0.0, 1.0, 0.9).value, 1.0);
+  EXPECT_DOUBLE_EQ(LocateInteriorMaximum(parabola, 0.0, 1.0, 1.45).value, 1.0);
+  evaluations = 0;
+  const LocatedMaximum out_of_reach = LocateInteriorMaximum(
+      [&](double t) {
+        ++evaluations;
+        return parabola(t);
+      },
+      0.0, 1.0, 1.47);
+  EXPECT_EQ(out_of_reach.value, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(evaluations, 3);
   // A step a few ulp of t long terminates (a bracket of 1e-9 of it is below t's resolution).
   const double t0 = 2.7935215, t1 = std::nextafter(std::nextafter(t0, 3.0), 3.0);
   (void)LocateInteriorMaximum([&](double t) { return -(t - t0) * (t - t1); }, t0, t1);
