@@ -5,6 +5,7 @@
 #include "multibody/ida_integrator.h"
 
 #include <ida/ida.h>
+#include <ida/ida_impl.h>  // IDAMem: the step's divided differences (CacheStepPolynomial)
 #include <ida/ida_ls.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
@@ -524,6 +525,7 @@ IdaIntegrator::~IdaIntegrator() = default;
 
 void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
   Impl& I = *impl_;
+  poly_order_ = -1;  // the cached polynomial reads IDA's memory, which this resets
   if (initialized_) {
     I.Reinitialize(t0, y0, yp0);
     return;
@@ -542,6 +544,7 @@ void IdaIntegrator::SetStopTime(double t_stop) {
 StepResult IdaIntegrator::Step(double tout) {
   FLEXROD_ASSERT(initialized_);
   Impl& I = *impl_;
+  poly_order_ = -1;  // as Initialize: a new step moves IDA's divided differences
   realtype tret = 0.0;
   const int flag = IDASolve(I.mem, tout, &tret, I.y, I.yp, IDA_ONE_STEP);
   if (I.pending) {
@@ -597,57 +600,61 @@ void IdaIntegrator::DenseOutput(double t, int k, double* out) {
 
 void IdaIntegrator::CacheStepPolynomial() {
   FLEXROD_ASSERT(initialized_);
-  Impl& I = *impl_;
-  const int n = I.n;
-  int k = 0;
-  CheckFlag(IDAGetLastOrder(I.mem, &k), "IDAGetLastOrder");
-  realtype tn = 0.0, hu = 0.0;
-  CheckFlag(IDAGetCurrentTime(I.mem, &tn), "IDAGetCurrentTime");
-  CheckFlag(IDAGetLastStep(I.mem, &hu), "IDAGetLastStep");
-  poly_.resize(static_cast<size_t>(k + 1) * n);
-  double factorial = 1.0;
+  // IDA's memory record (ida_impl.h, installed with the library and matched to it by the build):
+  // the divided differences and step sums IDAGetDky reads, as they stand after the last return.
+  const IDAMem mem = static_cast<IDAMem>(impl_->mem);
+  const int k = mem->ida_kused;
+  FLEXROD_ASSERT(k >= 0 && k < static_cast<int>(poly_phi_.size()));
   for (int j = 0; j <= k; ++j) {
-    if (j > 0) factorial *= j;
-    const double* d = NV_DATA_S(I.tmp);
-    if (j == 0 && I.t_returned == tn) {
-      // The value at t_n is φ₀, which IDASolve has just returned (IDAGetSolution at t_n copies
-      // it; IDAGetDky(t_n, 0) weights φ₁..φ_k by zero): the same numbers without the call.
-      d = NV_DATA_S(I.y);
-    } else {
-      CheckFlag(IDAGetDky(I.mem, tn, j, I.tmp), "IDAGetDky");
-    }
-    double* row = poly_.data() + static_cast<size_t>(j) * n;
-    for (int i = 0; i < n; ++i) row[i] = d[i] / factorial;
+    poly_phi_[static_cast<size_t>(j)] = NV_DATA_S(mem->ida_phi[j]);
+    poly_psi_[static_cast<size_t>(j)] = mem->ida_psi[j];
   }
   poly_order_ = k;
-  poly_tn_ = tn;
-  poly_t0_ = tn - hu;
+  poly_tn_ = mem->ida_tn;
+  poly_t0_ = mem->ida_tn - mem->ida_hused;
 }
 
 namespace {
-// Horner on components i..i+L−1 of the coefficient rows c (row j = D^j y / j!, n wide, order k):
-// y = Σ c_j s^j, ẏ = Σ j c_j s^{j−1}, written to y[into[i + l]] (into = nullptr: y[i + l]). L is
-// a compile-time count so the L chains of dependent multiply-adds stay in registers and overlap.
-// kRates = false: the values alone (yp unused), the same multiply-adds in the same order.
-template <size_t L, bool kRates = true>
-void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int* into, double* y,
-                 double* yp) {
-  double v[L], d[L];
-  for (size_t l = 0; l < L; ++l) {
-    v[l] = c[static_cast<size_t>(k) * n + i + l];
-    d[l] = 0.0;
+// The weights of φ_0..φ_k in y(t) (c) and ẏ(t) (d) at t − t_n = delta: IDAGetDky's recurrence,
+// c_j = c_{j−1} (δ + ψ_{j−2}) / ψ_{j−1} and d_j = (c_{j−1} + d_{j−1} (δ + ψ_{j−2})) / ψ_{j−1},
+// with c_0 = 1, d_0 = 0, ψ_{−1} = 0.
+void NewtonWeights(const std::array<double, 6>& psi, int k, double delta, double* c, double* d) {
+  c[0] = 1.0;
+  d[0] = 0.0;
+  double psi_before = 0.0;
+  for (int j = 1; j <= k; ++j) {
+    const double shift = delta + psi_before, psi_j = psi[static_cast<size_t>(j - 1)];
+    d[j] = (c[j - 1] + d[j - 1] * shift) / psi_j;
+    c[j] = c[j - 1] * shift / psi_j;
+    psi_before = psi_j;
   }
-  for (int j = k - 1; j >= 0; --j) {
-    const double* row = c + static_cast<size_t>(j) * n + i;
+}
+
+// y = Σ_j c_j φ_j and ẏ = Σ_{j≥1} d_j φ_j on components i..i+L−1, summed in j order as IDA's
+// N_VLinearCombination sums them, written to y[into[i + l]] (into = nullptr: y[i + l]). L is a
+// compile-time count so the L independent sums stay in registers and overlap. kRates = false:
+// the values alone (yp unused), the same multiply-adds in the same order.
+template <size_t L, bool kRates = true>
+void NewtonGroup(const std::array<const double*, 6>& phi, const double* c, const double* d, int k,
+                 size_t i, const int* into, double* y, double* yp) {
+  double v[L], r[L];
+  for (size_t l = 0; l < L; ++l) {
+    v[l] = phi[0][i + l];  // c_0 = 1
+    if constexpr (kRates) r[l] = k >= 1 ? d[1] * phi[1][i + l] : 0.0;
+  }
+  for (int j = 1; j <= k; ++j) {
+    const double* row = phi[static_cast<size_t>(j)] + i;
     for (size_t l = 0; l < L; ++l) {
-      if constexpr (kRates) d[l] = d[l] * s + v[l];
-      v[l] = v[l] * s + row[l];
+      v[l] += c[j] * row[l];
+      if constexpr (kRates) {
+        if (j >= 2) r[l] += d[j] * row[l];
+      }
     }
   }
   for (size_t l = 0; l < L; ++l) {
     const size_t to = into ? static_cast<size_t>(into[i + l]) : i + l;
     y[to] = v[l];
-    if constexpr (kRates) yp[to] = d[l];
+    if constexpr (kRates) yp[to] = r[l];
   }
 }
 }  // namespace
@@ -655,24 +662,25 @@ void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int
 void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, const int* into) const {
   FLEXROD_ASSERT(poly_order_ >= 0);
   const size_t n = static_cast<size_t>(impl_->n);
-  const double s = t - poly_tn_;
+  double c[6], d[6];
+  NewtonWeights(poly_psi_, poly_order_, t - poly_tn_, c, d);
   // Four components at a time: one at a time, each multiply-add waits on the last. The same
   // arithmetic per component either way.
   size_t i = 0;
-  for (; i + 4 <= n; i += 4) HornerGroup<4>(poly_.data(), n, poly_order_, s, i, into, y, yp);
-  for (; i < n; ++i) HornerGroup<1>(poly_.data(), n, poly_order_, s, i, into, y, yp);
+  for (; i + 4 <= n; i += 4) NewtonGroup<4>(poly_phi_, c, d, poly_order_, i, into, y, yp);
+  for (; i < n; ++i) NewtonGroup<1>(poly_phi_, c, d, poly_order_, i, into, y, yp);
 }
 
 void IdaIntegrator::EvaluateStepPolynomialValues(double t, int begin, int end, double* y,
                                                  const int* into) const {
   FLEXROD_ASSERT(poly_order_ >= 0 && 0 <= begin && begin <= end && end <= impl_->n);
-  const size_t n = static_cast<size_t>(impl_->n);
-  const double s = t - poly_tn_;
+  double c[6], d[6];
+  NewtonWeights(poly_psi_, poly_order_, t - poly_tn_, c, d);
   size_t i = static_cast<size_t>(begin);
   const size_t last = static_cast<size_t>(end);
   for (; i + 4 <= last; i += 4)
-    HornerGroup<4, false>(poly_.data(), n, poly_order_, s, i, into, y, nullptr);
-  for (; i < last; ++i) HornerGroup<1, false>(poly_.data(), n, poly_order_, s, i, into, y, nullptr);
+    NewtonGroup<4, false>(poly_phi_, c, d, poly_order_, i, into, y, nullptr);
+  for (; i < last; ++i) NewtonGroup<1, false>(poly_phi_, c, d, poly_order_, i, into, y, nullptr);
 }
 
 const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }

@@ -7,6 +7,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <exception>
 #include <memory>
@@ -169,11 +170,13 @@ class IdaIntegrator {
   StepResult Step(double tout);
   /// Dense output: k = 0 state, k = 1 derivative, at t within the last step.
   void DenseOutput(double t, int k, double* out);
-  /// Caches IDA's interpolating polynomial of the last step (degree k_used) as Taylor
-  /// coefficients D^j y(t_n)/j!, j = 0..k_used, from k_used + 1 calls of IDAGetDky at t_n.
-  /// EvaluateStepPolynomial then gives y(t) and ẏ(t) for any t of the last step by Horner's
-  /// rule without calling IDA — the same polynomial IDAGetDky evaluates, for a fraction of
-  /// its cost when many output samples fall into one step.
+  /// Caches IDA's interpolating polynomial of the last step (degree k_used): its modified
+  /// divided differences φ_j and step sums ψ_j, read from IDA's memory record (no copy of φ:
+  /// valid until the next Step or Initialize). EvaluateStepPolynomial then gives y(t) and ẏ(t) for
+  /// any t of the last step without calling IDA, by the sum IDAGetDky forms, y(t) = Σ_j c_j(t) φ_j
+  /// with c_0 = 1, c_j = c_{j−1} (t − t_n + ψ_{j−2}) / ψ_{j−1} (ψ_{−1} = 0), and ẏ(t) = Σ_j c_j'(t)
+  /// φ_j (IDA user guide, "Mathematical considerations", the interpolating polynomial of a step):
+  /// no per-step conversion, and a fraction of IDAGetDky's cost per sample.
   void CacheStepPolynomial();
   /// Component i of y(t) and ẏ(t) goes to y[into[i]] and yp[into[i]] (into = nullptr: to
   /// y[i], yp[i]), so that a caller with a larger layout (PrescribedMotion) needs no copy.
@@ -212,7 +215,9 @@ class IdaIntegrator {
   LinearSolverKind solver_kind_{LinearSolverKind::kDense};
   std::string last_message_;
   bool initialized_{false};
-  std::vector<double> poly_;  // (k_used + 1) × N Taylor coefficients, row j = D^j y / j!
+  /// The cached polynomial (CacheStepPolynomial): φ_j's data and ψ_j, j = 0..poly_order_.
+  std::array<const double*, 6> poly_phi_{};
+  std::array<double, 6> poly_psi_{};
   int poly_order_{-1};
   double poly_tn_{0.0}, poly_t0_{0.0};
 };

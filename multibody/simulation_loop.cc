@@ -230,7 +230,7 @@ class SimulationLoop {
       const double ts = grid_start_ + static_cast<double>(k_next_) * dt_;
       if (ts > t_ret + t_fuzz_ || ts > t_end_ + t_fuzz_) break;
       if (from_dense) {
-        CacheStepPolynomial();  // one set of IDAGetDky calls per step, not per sample
+        CacheStepPolynomial();  // once per step, not per sample
         const double te = std::min(ts, t_ret);
         ida_.EvaluateStepPolynomial(te, ybuf_.data(), ypbuf_.data(),
                                     prescribed_.kept_unknowns().data());

@@ -256,8 +256,9 @@ TEST(IdaIntegrator, ARelativeToleranceCapResolvesASmallMotionAtALargeOffset) {
   EXPECT_GT(steps_capped, steps_plain);
 }
 
-// The Taylor form of the last step's interpolant equals IDAGetDky (value and derivative), also
-// when written through an index map and when only the values of some components are asked for.
+// The cached interpolant of the last step (IDA's divided differences, summed as IDAGetDky sums
+// them) equals IDAGetDky, value and derivative, also when written through an index map and when
+// only the values of some components are asked for. Measured: bit for bit (worst difference 0).
 TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
   // 3 unknowns, and 9 (the evaluation takes four components at a time, then the rest).
   for (int copies : {1, 3}) {
@@ -312,7 +313,8 @@ TEST(IdaIntegrator, CachedStepPolynomialReproducesIdaGetDky) {
         }
       }
     }
-    EXPECT_LE(worst, 1e-13);
+    std::printf("%d copies: worst difference from IDAGetDky %.3g\n", copies, worst);
+    EXPECT_LE(worst, 1e-15);
   }
 }
 
