@@ -638,16 +638,21 @@ template <size_t L, bool kRates = true>
 void NewtonGroup(const std::array<const double*, 6>& phi, const double* c, const double* d, int k,
                  size_t i, const int* into, double* y, double* yp) {
   double v[L], r[L];
-  for (size_t l = 0; l < L; ++l) {
-    v[l] = phi[0][i + l];  // c_0 = 1
-    if constexpr (kRates) r[l] = k >= 1 ? d[1] * phi[1][i + l] : 0.0;
-  }
-  for (int j = 1; j <= k; ++j) {
-    const double* row = phi[static_cast<size_t>(j)] + i;
+  if (k == 0) {
+    for (size_t l = 0; l < L; ++l) v[l] = phi[0][i + l], r[l] = 0.0;
+  } else {
+    const double* first = phi[0] + i;
+    const double* second = phi[1] + i;
     for (size_t l = 0; l < L; ++l) {
-      v[l] += c[j] * row[l];
-      if constexpr (kRates) {
-        if (j >= 2) r[l] += d[j] * row[l];
+      v[l] = first[l];  // c_0 = 1
+      v[l] += c[1] * second[l];
+      if constexpr (kRates) r[l] = d[1] * second[l];
+    }
+    for (int j = 2; j <= k; ++j) {
+      const double* row = phi[static_cast<size_t>(j)] + i;
+      for (size_t l = 0; l < L; ++l) {
+        v[l] += c[j] * row[l];
+        if constexpr (kRates) r[l] += d[j] * row[l];
       }
     }
   }
