@@ -88,18 +88,44 @@ TEST(ExactRodReference, FlexibleRigReducedRodMatchesTheExactRod) {
 }
 
 // The same for issue 23's second case: brass 12.7 mm, 0.5 mm, 250 rpm (impact bearing forces
-// near 1.9 kN, above the rod's buckling load). This regime is sensitive to the trajectory: over
-// the preset's 3 s (12.5 revolutions) the reduced rod's own peak bearing force read 1809 / 1778 /
-// 1875 N at the default / 10x / 100x tighter tolerances (a round-off change of the Jacobian moved
-// it 1.5 %), so, as issue 24 asks of such regimes, the statistics are taken over 5 s (20.8
-// revolutions), where they read 1850 / 1875 / 1875 N. Measured against the exact rod (1890 N):
-// p95 |a| −0.04 %, p95 bearing force −0.36 %, peak bearing force −2.1 %, peak gauge stress
-// +0.28 % (reduced 339 275 steps, exact rod 404 019).
+// near 1.9 kN, above the rod's buckling load), over 5 s (20.8 revolutions). This regime is
+// chaotic: a round-off-level change moves a run's figures by up to 3 %, as much as the bound.
+// Measured here, each model at sim.rel_tol 1e-6, 1.00001e-6 and 0.99999e-6:
+//   p95 |a| [m/s²]            reduced 593.96 595.42 594.64   exact 593.95 595.24 594.17
+//   p95 bearing-force ampl.   reduced 25.958 26.094 26.152   exact 26.493 25.878 26.197
+//   peak bearing force [N]    reduced 1829   1837   1840     exact 1869   1833   1839
+//   peak gauge stress [MPa]   reduced 55.82  56.40  56.08    exact 56.00  56.26  54.82
+// (a change of the mass-matrix product's rounding once moved the reduced rod's single run to
+// 3.7 % and 4.1 % off the exact rod's, on the p95 and peak bearing force). So, as issue 24 asks
+// of chaotic regimes, the figures compared are means over those three neighbouring trajectories
+// of each model: measured +0.04 %, −0.46 %, −0.64 %, +0.73 %.
+RigFigures NeighbourMean(const std::string& rod_type, const std::vector<std::string>& sets) {
+  RigFigures mean{0.0, 0.0, 0.0, 0.0};
+  const std::vector<std::string> tolerances = {"1e-6", "1.00001e-6", "0.99999e-6"};
+  for (const std::string& rel_tol : tolerances) {
+    std::vector<std::string> run_sets = sets;
+    run_sets.push_back("sim.rel_tol=" + rel_tol);
+    const RigFigures f = FlexibleRig(rod_type, run_sets);
+    mean.acc_p95 += f.acc_p95 / static_cast<double>(tolerances.size());
+    mean.force_p95 += f.force_p95 / static_cast<double>(tolerances.size());
+    mean.force_peak += f.force_peak / static_cast<double>(tolerances.size());
+    mean.stress_peak += f.stress_peak / static_cast<double>(tolerances.size());
+  }
+  return mean;
+}
+
 TEST(ExactRodReference, BrassRodAt250RpmReducedRodMatchesTheExactRod) {
   const std::vector<std::string> brass = {"rod.material=brass", "rod.height=12.7 mm",
                                           "drive.speed=250 rpm", "sim.capture=5 s"};
-  const RigFigures reduced = FlexibleRig("flexible", brass);
-  const RigFigures exact = FlexibleRig("exact", brass);
+  const RigFigures reduced = NeighbourMean("flexible", brass);
+  const RigFigures exact = NeighbourMean("exact", brass);
+  std::printf(
+      "means: reduced / exact - 1: p95 |a| %+.2f %%, p95 bearing force %+.2f %%, peak %+.2f %%, "
+      "peak gauge stress %+.2f %%\n",
+      100.0 * (reduced.acc_p95 / exact.acc_p95 - 1.0),
+      100.0 * (reduced.force_p95 / exact.force_p95 - 1.0),
+      100.0 * (reduced.force_peak / exact.force_peak - 1.0),
+      100.0 * (reduced.stress_peak / exact.stress_peak - 1.0));
   EXPECT_NEAR(reduced.acc_p95, exact.acc_p95, 0.03 * exact.acc_p95);
   EXPECT_NEAR(reduced.force_p95, exact.force_p95, 0.03 * exact.force_p95);
   EXPECT_NEAR(reduced.force_peak, exact.force_peak, 0.03 * exact.force_peak);
