@@ -598,7 +598,7 @@ void IdaIntegrator::DenseOutput(double t, int k, double* out) {
   std::memcpy(out, NV_DATA_S(impl_->tmp), sizeof(double) * impl_->n);
 }
 
-void IdaIntegrator::CacheStepPolynomial() {
+void IdaIntegrator::CacheStepPolynomial(double evaluation_interval) {
   FLEXROD_ASSERT(initialized_);
   // IDA's memory record (ida_impl.h, installed with the library and matched to it by the build):
   // the divided differences and step sums IDAGetDky reads, as they stand after the last return.
@@ -608,25 +608,57 @@ void IdaIntegrator::CacheStepPolynomial() {
   for (int j = 0; j <= k; ++j) {
     poly_phi_[static_cast<size_t>(j)] = NV_DATA_S(mem->ida_phi[j]);
     poly_psi_[static_cast<size_t>(j)] = mem->ida_psi[j];
+    poly_inverse_psi_[static_cast<size_t>(j)] = 1.0 / mem->ida_psi[j];
   }
   poly_order_ = k;
   poly_tn_ = mem->ida_tn;
   poly_t0_ = mem->ida_tn - mem->ida_hused;
+  poly_power_form_ = evaluation_interval > 0.0 && mem->ida_hused >= 4.0 * evaluation_interval;
+  if (!poly_power_form_) return;
+  // c_j(δ) = Π_{i<j} (δ + ψ_{i−1}) / ψ_i as a polynomial in δ: p[j][m], m = 0..j, one linear
+  // factor at a time; then T_m = Σ_{j≥m} p[j][m] φ_j.
+  double p[6][6] = {};
+  p[0][0] = 1.0;
+  for (int j = 1; j <= k; ++j) {
+    const double shift = j >= 2 ? poly_psi_[static_cast<size_t>(j - 2)] : 0.0;
+    const double inverse = poly_inverse_psi_[static_cast<size_t>(j - 1)];
+    for (int m = 0; m <= j; ++m) {
+      const double from_delta = m > 0 ? p[j - 1][m - 1] : 0.0;
+      const double from_shift = m < j ? shift * p[j - 1][m] : 0.0;
+      p[j][m] = (from_delta + from_shift) * inverse;
+    }
+  }
+  const size_t n = static_cast<size_t>(impl_->n);
+  poly_power_.assign(static_cast<size_t>(k + 1) * n, 0.0);
+  for (int m = 0; m <= k; ++m) {
+    double* row = poly_power_.data() + static_cast<size_t>(m) * n;
+    for (int j = m; j <= k; ++j) {
+      const double w = p[j][m];
+      const double* phi = poly_phi_[static_cast<size_t>(j)];
+      for (size_t i = 0; i < n; ++i) row[i] += w * phi[i];
+    }
+  }
 }
 
 namespace {
 // The weights of φ_0..φ_k in y(t) (c) and ẏ(t) (d) at t − t_n = delta: IDAGetDky's recurrence,
 // c_j = c_{j−1} (δ + ψ_{j−2}) / ψ_{j−1} and d_j = (c_{j−1} + d_{j−1} (δ + ψ_{j−2})) / ψ_{j−1},
-// with c_0 = 1, d_0 = 0, ψ_{−1} = 0.
-void NewtonWeights(const std::array<double, 6>& psi, int k, double delta, double* c, double* d) {
+// with c_0 = 1, d_0 = 0, ψ_{−1} = 0; the divisions as products with 1/ψ, taken once per step
+// (a sample then costs no division: many samples can fall into one step).
+void NewtonWeights(const std::array<double, 6>& psi, const std::array<double, 6>& inverse_psi,
+                   int k, double delta, double* c, double* d) {
+  // a_j = (δ + ψ_{j−2}) / ψ_{j−1} first, all independent; then c_j = c_{j−1} a_j and
+  // d_j = c_{j−1} / ψ_{j−1} + d_{j−1} a_j: one multiply (or multiply-add) of latency per order.
+  double a[6];
+  a[1] = delta * inverse_psi[0];
+  for (int j = 2; j <= k; ++j) {
+    a[j] = (delta + psi[static_cast<size_t>(j - 2)]) * inverse_psi[static_cast<size_t>(j - 1)];
+  }
   c[0] = 1.0;
   d[0] = 0.0;
-  double psi_before = 0.0;
   for (int j = 1; j <= k; ++j) {
-    const double shift = delta + psi_before, psi_j = psi[static_cast<size_t>(j - 1)];
-    d[j] = (c[j - 1] + d[j - 1] * shift) / psi_j;
-    c[j] = c[j - 1] * shift / psi_j;
-    psi_before = psi_j;
+    d[j] = c[j - 1] * inverse_psi[static_cast<size_t>(j - 1)] + d[j - 1] * a[j];
+    c[j] = c[j - 1] * a[j];
   }
 }
 
@@ -662,16 +694,46 @@ void NewtonGroup(const std::array<const double*, 6>& phi, const double* c, const
     if constexpr (kRates) yp[to] = r[l];
   }
 }
+// Horner on components i..i+L−1 of the power form's rows c (row m = T_m, n wide, order k):
+// y = Σ T_m s^m, ẏ = Σ m T_m s^{m−1}, written as NewtonGroup writes.
+template <size_t L, bool kRates = true>
+void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int* into, double* y,
+                 double* yp) {
+  double v[L], r[L];
+  for (size_t l = 0; l < L; ++l) {
+    v[l] = c[static_cast<size_t>(k) * n + i + l];
+    r[l] = 0.0;
+  }
+  for (int m = k - 1; m >= 0; --m) {
+    const double* row = c + static_cast<size_t>(m) * n + i;
+    for (size_t l = 0; l < L; ++l) {
+      if constexpr (kRates) r[l] = r[l] * s + v[l];
+      v[l] = v[l] * s + row[l];
+    }
+  }
+  for (size_t l = 0; l < L; ++l) {
+    const size_t to = into ? static_cast<size_t>(into[i + l]) : i + l;
+    y[to] = v[l];
+    if constexpr (kRates) yp[to] = r[l];
+  }
+}
 }  // namespace
 
 void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, const int* into) const {
   FLEXROD_ASSERT(poly_order_ >= 0);
   const size_t n = static_cast<size_t>(impl_->n);
-  double c[6], d[6];
-  NewtonWeights(poly_psi_, poly_order_, t - poly_tn_, c, d);
   // Four components at a time: one at a time, each multiply-add waits on the last. The same
   // arithmetic per component either way.
   size_t i = 0;
+  if (poly_power_form_) {
+    const double s = t - poly_tn_;
+    for (; i + 4 <= n; i += 4)
+      HornerGroup<4>(poly_power_.data(), n, poly_order_, s, i, into, y, yp);
+    for (; i < n; ++i) HornerGroup<1>(poly_power_.data(), n, poly_order_, s, i, into, y, yp);
+    return;
+  }
+  double c[6], d[6];
+  NewtonWeights(poly_psi_, poly_inverse_psi_, poly_order_, t - poly_tn_, c, d);
   for (; i + 4 <= n; i += 4) NewtonGroup<4>(poly_phi_, c, d, poly_order_, i, into, y, yp);
   for (; i < n; ++i) NewtonGroup<1>(poly_phi_, c, d, poly_order_, i, into, y, yp);
 }
@@ -679,10 +741,18 @@ void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, cons
 void IdaIntegrator::EvaluateStepPolynomialValues(double t, int begin, int end, double* y,
                                                  const int* into) const {
   FLEXROD_ASSERT(poly_order_ >= 0 && 0 <= begin && begin <= end && end <= impl_->n);
-  double c[6], d[6];
-  NewtonWeights(poly_psi_, poly_order_, t - poly_tn_, c, d);
   size_t i = static_cast<size_t>(begin);
   const size_t last = static_cast<size_t>(end);
+  if (poly_power_form_) {
+    const size_t n = static_cast<size_t>(impl_->n);
+    const double s = t - poly_tn_;
+    const double* c = poly_power_.data();
+    for (; i + 4 <= last; i += 4) HornerGroup<4, false>(c, n, poly_order_, s, i, into, y, nullptr);
+    for (; i < last; ++i) HornerGroup<1, false>(c, n, poly_order_, s, i, into, y, nullptr);
+    return;
+  }
+  double c[6], d[6];
+  NewtonWeights(poly_psi_, poly_inverse_psi_, poly_order_, t - poly_tn_, c, d);
   for (; i + 4 <= last; i += 4)
     NewtonGroup<4, false>(poly_phi_, c, d, poly_order_, i, into, y, nullptr);
   for (; i < last; ++i) NewtonGroup<1, false>(poly_phi_, c, d, poly_order_, i, into, y, nullptr);

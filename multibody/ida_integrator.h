@@ -170,14 +170,18 @@ class IdaIntegrator {
   StepResult Step(double tout);
   /// Dense output: k = 0 state, k = 1 derivative, at t within the last step.
   void DenseOutput(double t, int k, double* out);
-  /// Caches IDA's interpolating polynomial of the last step (degree k_used): its modified
-  /// divided differences φ_j and step sums ψ_j, read from IDA's memory record (no copy of φ:
-  /// valid until the next Step or Initialize). EvaluateStepPolynomial then gives y(t) and ẏ(t) for
-  /// any t of the last step without calling IDA, by the sum IDAGetDky forms, y(t) = Σ_j c_j(t) φ_j
-  /// with c_0 = 1, c_j = c_{j−1} (t − t_n + ψ_{j−2}) / ψ_{j−1} (ψ_{−1} = 0), and ẏ(t) = Σ_j c_j'(t)
-  /// φ_j (IDA user guide, "Mathematical considerations", the interpolating polynomial of a step):
-  /// no per-step conversion, and a fraction of IDAGetDky's cost per sample.
-  void CacheStepPolynomial();
+  /// Caches IDA's interpolating polynomial of the last step (degree k_used), from its modified
+  /// divided differences φ_j and step sums ψ_j in IDA's memory record: y(t) = Σ_j c_j(t) φ_j
+  /// with c_0 = 1, c_j = c_{j−1} (t − t_n + ψ_{j−2}) / ψ_{j−1} (ψ_{−1} = 0), ẏ(t) = Σ_j c_j'(t)
+  /// φ_j, the sum IDAGetDky forms (IDA user guide, "Mathematical considerations"). A step expected
+  /// to hold fewer than four evaluations (its length over `evaluation_interval`; 0: few) is
+  /// evaluated in that form, the weights per evaluation and no work per step (the common case:
+  /// a few samples, or a peak search, per step); a longer one in the power form Σ_m T_m (t −
+  /// t_n)^m, its rows T_m built once here, then Horner's rule per evaluation (a rigid run at 100
+  /// kHz has hundreds of samples per step). Either form agrees with IDAGetDky to round-off and is
+  /// φ_0 exactly at t_n. Valid until the next Step or Initialize (φ is read, not copied).
+  /// EvaluateStepPolynomial then gives y(t) and ẏ(t) for any t of the last step without IDA.
+  void CacheStepPolynomial(double evaluation_interval = 0.0);
   /// Component i of y(t) and ẏ(t) goes to y[into[i]] and yp[into[i]] (into = nullptr: to
   /// y[i], yp[i]), so that a caller with a larger layout (PrescribedMotion) needs no copy.
   void EvaluateStepPolynomial(double t, double* y, double* yp, const int* into = nullptr) const;
@@ -215,9 +219,11 @@ class IdaIntegrator {
   LinearSolverKind solver_kind_{LinearSolverKind::kDense};
   std::string last_message_;
   bool initialized_{false};
-  /// The cached polynomial (CacheStepPolynomial): φ_j's data and ψ_j, j = 0..poly_order_.
+  /// The cached polynomial (CacheStepPolynomial): φ_j's data, ψ_j and 1/ψ_j, j = 0..poly_order_.
   std::array<const double*, 6> poly_phi_{};
-  std::array<double, 6> poly_psi_{};
+  std::array<double, 6> poly_psi_{}, poly_inverse_psi_{};
+  std::vector<double> poly_power_;  // the power form's rows T_m, (k_used + 1) × N
+  bool poly_power_form_{false};     // evaluated in the power form, else from φ_j
   int poly_order_{-1};
   double poly_tn_{0.0}, poly_t0_{0.0};
 };

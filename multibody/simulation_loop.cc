@@ -146,7 +146,7 @@ class SimulationLoop {
   /// and the step-interval callbacks (the impact-peak search) of one step share it.
   void CacheStepPolynomial() {
     if (step_polynomial_cached_) return;
-    ida_.CacheStepPolynomial();
+    ida_.CacheStepPolynomial(grid_active_ ? dt_ : 0.0);  // its form: how many samples it holds
     step_polynomial_cached_ = true;
   }
 
