@@ -694,6 +694,7 @@ void NewtonGroup(const std::array<const double*, 6>& phi, const double* c, const
     if constexpr (kRates) yp[to] = r[l];
   }
 }
+
 // Horner on components i..i+L−1 of the power form's rows c (row m = T_m, n wide, order k):
 // y = Σ T_m s^m, ẏ = Σ m T_m s^{m−1}, written as NewtonGroup writes.
 template <size_t L, bool kRates = true>

@@ -170,17 +170,18 @@ class IdaIntegrator {
   StepResult Step(double tout);
   /// Dense output: k = 0 state, k = 1 derivative, at t within the last step.
   void DenseOutput(double t, int k, double* out);
-  /// Caches IDA's interpolating polynomial of the last step (degree k_used), from its modified
-  /// divided differences φ_j and step sums ψ_j in IDA's memory record: y(t) = Σ_j c_j(t) φ_j
-  /// with c_0 = 1, c_j = c_{j−1} (t − t_n + ψ_{j−2}) / ψ_{j−1} (ψ_{−1} = 0), ẏ(t) = Σ_j c_j'(t)
-  /// φ_j, the sum IDAGetDky forms (IDA user guide, "Mathematical considerations"). A step expected
-  /// to hold fewer than four evaluations (its length over `evaluation_interval`; 0: few) is
-  /// evaluated in that form, the weights per evaluation and no work per step (the common case:
-  /// a few samples, or a peak search, per step); a longer one in the power form Σ_m T_m (t −
-  /// t_n)^m, its rows T_m built once here, then Horner's rule per evaluation (a rigid run at 100
-  /// kHz has hundreds of samples per step). Either form agrees with IDAGetDky to round-off and is
-  /// φ_0 exactly at t_n. Valid until the next Step or Initialize (φ is read, not copied).
-  /// EvaluateStepPolynomial then gives y(t) and ẏ(t) for any t of the last step without IDA.
+  /// Caches IDA's interpolating polynomial of the last step (degree k = k_used) from IDA's
+  /// memory record, its modified divided differences φ_j and step sums ψ_j:
+  ///   y(t) = Σ_j c_j(t) φ_j,  c_0 = 1,  c_j = c_{j−1} (t − t_n + ψ_{j−2}) / ψ_{j−1}  (ψ_{−1} = 0),
+  /// and ẏ(t) = Σ_j c_j'(t) φ_j: the sum IDAGetDky forms (IDA user guide, "Mathematical
+  /// considerations"). A step expected to hold fewer than four evaluations (its length over
+  /// `evaluation_interval`; 0: few) is evaluated in that form: weights per evaluation, no work
+  /// per step (a few samples or a peak search per step, the common case). A longer one is
+  /// evaluated in the power form y(t) = Σ_m T_m (t − t_n)^m, its rows built here once, then by
+  /// Horner's rule (a rigid run at 100 kHz has hundreds of samples per step). Either form agrees
+  /// with IDAGetDky to round-off and is φ_0 exactly at t_n. Valid until the next Step or
+  /// Initialize (φ is read in place). EvaluateStepPolynomial then gives y(t) and ẏ(t) for any t
+  /// of the last step without calling IDA.
   void CacheStepPolynomial(double evaluation_interval = 0.0);
   /// Component i of y(t) and ẏ(t) goes to y[into[i]] and yp[into[i]] (into = nullptr: to
   /// y[i], yp[i]), so that a caller with a larger layout (PrescribedMotion) needs no copy.
