@@ -101,7 +101,9 @@ class ImpactLogger {
   /// True between a located onset and its separation.
   bool in_impact() const { return is_open_; }
   /// The last point offered (meaningful once one has been).
-  const ContactPoint& last_point() const { return recent_[(num_offered_ + 3) % 4]; }
+  const ContactPoint& last_point() const {
+    return recent_[(num_offered_ + recent_.size() - 1) % recent_.size()];
+  }
   /// The point at time t among the last four offered (the start of the step a peak search
   /// covers, with at most the samples inside that step offered after it); nullptr if none.
   const ContactPoint* RecentPoint(double t) const;

@@ -89,8 +89,6 @@ struct IdaIntegrator::Impl {
   bool suppress_algebraic{true};      // IntegratorOptions::suppress_algebraic
   std::vector<long> step_limiting;    // IntegratorOptions::count_step_limiting, by unknown
   long step_limiting_counted{0};      // IDA's step counter at the last count (since IDAReInit)
-  double t_returned{
-      std::numeric_limits<double>::quiet_NaN()};  // of the last IDASolve (y, yp hold it) [s]
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -363,7 +361,6 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   window_steps = window_error_test_failures = 0;
   step_limiting_counted = 0;
   newton_rate_factor = 20.0;
-  t_returned = std::numeric_limits<double>::quiet_NaN();  // y holds no step's φ₀ now
   ++reinits;
 }
 
@@ -531,6 +528,7 @@ void IdaIntegrator::Initialize(double t0, const double* y0, const double* yp0) {
     return;
   }
   I.CreateVectors(y0, yp0, options_.abs_tol);
+  poly_power_.reserve(poly_phi_.size() * static_cast<size_t>(I.n));  // no allocation in a step
   I.CreateIda(t0, options_);
   I.AttachLinearSolverAndRoots(solver_kind_);
   initialized_ = true;
@@ -561,7 +559,6 @@ StepResult IdaIntegrator::Step(double tout) {
     if (IDAGetCurrentTime(I.mem, &tn) == IDA_SUCCESS) tret = tn;
   }
   out.t = tret;
-  I.t_returned = tret;
   switch (flag) {
     case IDA_SUCCESS:
       out.outcome = StepOutcome::kStep;
@@ -720,43 +717,34 @@ void HornerGroup(const double* c, size_t n, int k, double s, size_t i, const int
 }
 }  // namespace
 
-void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, const int* into) const {
-  FLEXROD_ASSERT(poly_order_ >= 0);
-  const size_t n = static_cast<size_t>(impl_->n);
+template <bool kRates>
+void IdaIntegrator::EvaluateRange(double t, size_t begin, size_t end, const int* into, double* y,
+                                  double* yp) const {
+  FLEXROD_ASSERT(poly_order_ >= 0 && begin <= end && end <= static_cast<size_t>(impl_->n));
   // Four components at a time: one at a time, each multiply-add waits on the last. The same
   // arithmetic per component either way.
-  size_t i = 0;
+  size_t i = begin;
   if (poly_power_form_) {
-    const double s = t - poly_tn_;
-    for (; i + 4 <= n; i += 4)
-      HornerGroup<4>(poly_power_.data(), n, poly_order_, s, i, into, y, yp);
-    for (; i < n; ++i) HornerGroup<1>(poly_power_.data(), n, poly_order_, s, i, into, y, yp);
+    const size_t n = static_cast<size_t>(impl_->n);
+    const double s = t - poly_tn_, *c = poly_power_.data();
+    for (; i + 4 <= end; i += 4) HornerGroup<4, kRates>(c, n, poly_order_, s, i, into, y, yp);
+    for (; i < end; ++i) HornerGroup<1, kRates>(c, n, poly_order_, s, i, into, y, yp);
     return;
   }
   double c[6], d[6];
   NewtonWeights(poly_psi_, poly_inverse_psi_, poly_order_, t - poly_tn_, c, d);
-  for (; i + 4 <= n; i += 4) NewtonGroup<4>(poly_phi_, c, d, poly_order_, i, into, y, yp);
-  for (; i < n; ++i) NewtonGroup<1>(poly_phi_, c, d, poly_order_, i, into, y, yp);
+  for (; i + 4 <= end; i += 4) NewtonGroup<4, kRates>(poly_phi_, c, d, poly_order_, i, into, y, yp);
+  for (; i < end; ++i) NewtonGroup<1, kRates>(poly_phi_, c, d, poly_order_, i, into, y, yp);
+}
+
+void IdaIntegrator::EvaluateStepPolynomial(double t, double* y, double* yp, const int* into) const {
+  EvaluateRange<true>(t, 0, static_cast<size_t>(impl_->n), into, y, yp);
 }
 
 void IdaIntegrator::EvaluateStepPolynomialValues(double t, int begin, int end, double* y,
                                                  const int* into) const {
-  FLEXROD_ASSERT(poly_order_ >= 0 && 0 <= begin && begin <= end && end <= impl_->n);
-  size_t i = static_cast<size_t>(begin);
-  const size_t last = static_cast<size_t>(end);
-  if (poly_power_form_) {
-    const size_t n = static_cast<size_t>(impl_->n);
-    const double s = t - poly_tn_;
-    const double* c = poly_power_.data();
-    for (; i + 4 <= last; i += 4) HornerGroup<4, false>(c, n, poly_order_, s, i, into, y, nullptr);
-    for (; i < last; ++i) HornerGroup<1, false>(c, n, poly_order_, s, i, into, y, nullptr);
-    return;
-  }
-  double c[6], d[6];
-  NewtonWeights(poly_psi_, poly_inverse_psi_, poly_order_, t - poly_tn_, c, d);
-  for (; i + 4 <= last; i += 4)
-    NewtonGroup<4, false>(poly_phi_, c, d, poly_order_, i, into, y, nullptr);
-  for (; i < last; ++i) NewtonGroup<1, false>(poly_phi_, c, d, poly_order_, i, into, y, nullptr);
+  FLEXROD_ASSERT(0 <= begin && begin <= end);
+  EvaluateRange<false>(t, static_cast<size_t>(begin), static_cast<size_t>(end), into, y, nullptr);
 }
 
 const double* IdaIntegrator::y() const { return NV_DATA_S(impl_->y); }

@@ -175,7 +175,7 @@ class IdaIntegrator {
   ///   y(t) = Σ_j c_j(t) φ_j,  c_0 = 1,  c_j = c_{j−1} (t − t_n + ψ_{j−2}) / ψ_{j−1}  (ψ_{−1} = 0),
   /// and ẏ(t) = Σ_j c_j'(t) φ_j: the sum IDAGetDky forms (IDA user guide, "Mathematical
   /// considerations"). A step expected to hold fewer than four evaluations (its length over
-  /// `evaluation_interval`; 0: few) is evaluated in that form: weights per evaluation, no work
+  /// `evaluation_interval` [s]; 0: few) is evaluated in that form: weights per evaluation, no work
   /// per step (a few samples or a peak search per step, the common case). A longer one is
   /// evaluated in the power form y(t) = Σ_m T_m (t − t_n)^m, its rows built here once, then by
   /// Horner's rule (a rigid run at 100 kHz has hundreds of samples per step). Either form agrees
@@ -227,6 +227,11 @@ class IdaIntegrator {
   bool poly_power_form_{false};     // evaluated in the power form, else from φ_j
   int poly_order_{-1};
   double poly_tn_{0.0}, poly_t0_{0.0};
+  /// Components [begin, end) of y(t), with ẏ(t) if kRates, in the cached form (written through
+  /// `into` as EvaluateStepPolynomial documents).
+  template <bool kRates>
+  void EvaluateRange(double t, size_t begin, size_t end, const int* into, double* y,
+                     double* yp) const;
 };
 
 }  // namespace flexrod::multibody

@@ -9,8 +9,10 @@
 #include <future>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "common/error.h"
 #include "common/files.h"
@@ -399,16 +401,15 @@ RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bo
     // The impact log also sees every integrator step and located event of the capture window
     // (from its first sample to its last); the samples reach it through the channels.
     cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
-      const bool searched = step_end && step_end_time == s.t();
+      const std::optional<multibody::ClearanceResponse> searched =
+          std::exchange(step_end, std::nullopt);
       if (rec.size() == 0 ||
-          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample)) {
-        step_end.reset();
+          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample))
         return;
-      }
       impacts->Observe(study::MakeContactPoint(
           s.t(), s.coordinate(crank_theta),
-          searched ? *step_end : multibody::CalcClearanceResponse(s, mm.clearance)));
-      step_end.reset();
+          searched && step_end_time == s.t() ? *searched
+                                             : multibody::CalcClearanceResponse(s, mm.clearance)));
     };
     // Inside an impact, the peak force and penetration are located within each step (its
     // interpolating polynomial), not taken at the solution points, which can be 5e-4 low.
