@@ -56,10 +56,10 @@ def run_once(binary, toml, args):
 def describe(name, s):
     it = s["integrator"]
     wall = s["wall_time [s]"]
-    line = ("    %-5s solver wall %.3f s: %d steps, %d residuals, %d Jacobians, %d events, "
-            "%d error-test / %d convergence failures; output (sampling) %.0f %% of the wall"
+    line = ("    %-5s solver wall %.3f s: %d steps, %d residuals, %d Jacobians (%d matrix set-ups), "
+            "%d events, %d error-test / %d convergence failures; output (sampling) %.0f %% of the wall"
             % (name, wall, it["steps"], it["residual_evaluations"], it["jacobian_evaluations"],
-               it["roots_found"], it["error_test_failures"], it["nonlinear_convergence_failures"],
+               it["matrix_setups"], it["roots_found"], it["error_test_failures"], it["nonlinear_convergence_failures"],
                100.0 * it["output_time [s]"] / wall if wall > 0 else 0.0))
     print(line)
 

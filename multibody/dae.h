@@ -66,9 +66,11 @@ void CalcJointConstraint(const Mechanism& model, const RunData& data, JointId jo
 int CalcResidual(const Mechanism& model, RunData* data, double t, const double* y, const double* yp,
                  double* r);
 /// Adds dF/dy + cj·dF/dẏ to the column-major matrix jac (leading dimension ld >= N), which
-/// the caller has zeroed. Returns 0 or 1 (recoverable).
+/// the caller has zeroed, and, if dfdyp is given, dF/dẏ alone (the identities of F1 and F5 and
+/// the bodies' mass matrices in F2) to dfdyp (zeroed, the same layout). Returns 0 or 1
+/// (recoverable).
 int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, const double* y,
-                const double* yp, double* jac, int ld);
+                const double* yp, double* jac, int ld, double* dfdyp = nullptr);
 /// Element root functions g (model.num_element_roots()). Returns 0.
 int CalcElementRoots(const Mechanism& model, RunData* data, double t, const double* y, double* g);
 

@@ -36,7 +36,7 @@ using dae_kernels::UpdateAll;
 /// Body rows: c_j M, −∂Q/∂v, ∂(M v̇ − Q)/∂p (closed form), and the damping and stiffening power
 /// rows of the energy quadratures.
 void AddBodyJacobian(const Mechanism& model, RunData* data, size_t bi, double cj, const double* p,
-                     const double* v, const double* vd, JacMap& J) {
+                     const double* v, const double* vd, JacMap& J, JacMap* dfdyp) {
   const int np = model.num_coordinates();
   const int F2 = np, QD = model.quadrature_offset();
   const Vec2& g = model.gravity();
@@ -47,6 +47,7 @@ void AddBodyJacobian(const Mechanism& model, RunData* data, size_t bi, double cj
   FillMassMatrix(b, s, p + o, &s.M);
   const int R = F2 + o, P = o, V = np + o;
   J.block(R, V, nb, nb) += cj * s.M;
+  if (dfdyp != nullptr) dfdyp->block(R, V, nb, nb) += s.M;
 
   const double thd = v[o + kTheta];
   const double alpha = vd[o + kTheta];
@@ -313,10 +314,12 @@ bool AddElementJacobian(const Mechanism& model, RunData* data, size_t ei, double
 }
 
 int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, const double* y,
-                const double* yp, double* jac, int ld) {
+                const double* yp, double* jac, int ld, double* dfdyp) {
   const int np = model.num_coordinates();
   const int N = model.size();
   JacMap J(jac, N, N, Eigen::OuterStride<>(ld));
+  JacMap B(dfdyp != nullptr ? dfdyp : jac, N, N, Eigen::OuterStride<>(ld));
+  JacMap* Bp = dfdyp != nullptr ? &B : nullptr;
   const double* p = y;
   const double* v = y + np;
   const double* lam = y + model.lambda_offset();
@@ -332,8 +335,12 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
     J(F1 + i, np + i) -= 1.0;
   }
   for (int i = F5; i < N; ++i) J(i, i) += cj;
+  if (Bp != nullptr) {
+    for (int i = 0; i < np; ++i) B(F1 + i, i) += 1.0;
+    for (int i = F5; i < N; ++i) B(i, i) += 1.0;
+  }
   for (size_t bi = 0; bi < model.bodies().size(); ++bi)
-    AddBodyJacobian(model, data, bi, cj, p, v, vd, J);
+    AddBodyJacobian(model, data, bi, cj, p, v, vd, J, Bp);
   AddDriverJacobian(model, v, lam, J);
   for (size_t ji = 0; ji < model.joints().size(); ++ji)
     AddJointJacobian(model, data, ji, v, lam, mu, J);

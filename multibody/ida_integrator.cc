@@ -84,11 +84,23 @@ struct IdaIntegrator::Impl {
   bool sparse{false};
   SparsityPattern pattern;
   std::vector<double> dense_scratch;  // N×N, kept zero between Jacobian calls
-  long sparse_jacobians{0};           // Jacobians gathered into the sparse pattern so far
-  bool time_calls{false};             // IntegratorOptions::time_calls
-  bool suppress_algebraic{true};      // IntegratorOptions::suppress_algebraic
-  std::vector<long> step_limiting;    // IntegratorOptions::count_step_limiting, by unknown
-  long step_limiting_counted{0};      // IDA's step counter at the last count (since IDAReInit)
+  // Jacobian reuse (IntegratorOptions::jacobian_reuse_steps): the matrix of the last evaluation
+  // and dF/dẏ there, in the solver's storage (dense: N² column-major; KLU: the pattern's nnz
+  // values), its c_j and IDA's step count then.
+  int reuse_steps{0};
+  std::vector<double> saved_matrix, saved_dfdyp;
+  std::vector<double> dfdyp_scratch;  // KLU: N×N, kept zero between Jacobian calls
+  double saved_cj{0.0};
+  long saved_at_step{0};
+  bool must_evaluate{true};          // no evaluation since (re-)initialisation, or Newton failed
+  bool last_setup_evaluated{false};  // the last set-up evaluated the Jacobian (Newton's jcur)
+  long evaluations{0};               // Jacobian evaluations since the last IDAReInit
+  SUNNonlinSolLSetupFn ida_lsetup{nullptr};  // IDA's set-up, which ReusingLSetup wraps
+  long sparse_jacobians{0};                  // Jacobians gathered into the sparse pattern so far
+  bool time_calls{false};                    // IntegratorOptions::time_calls
+  bool suppress_algebraic{true};             // IntegratorOptions::suppress_algebraic
+  std::vector<long> step_limiting;           // IntegratorOptions::count_step_limiting, by unknown
+  long step_limiting_counted{0};  // IDA's step counter at the last count (since IDAReInit)
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -125,6 +137,26 @@ struct IdaIntegrator::Impl {
   /// time_calls, with IdaJacobian; then the root functions if the system has any.
   void AttachLinearSolverAndRoots(LinearSolverKind kind);
 
+  /// Whether the set-up IDA asks for now must evaluate the Jacobian: always without reuse,
+  /// after a (re-)initialisation or a Newton failure on a matrix that was not current, and
+  /// reuse_steps steps after the last evaluation.
+  bool EvaluationDue() const {
+    if (reuse_steps == 0 || must_evaluate) return true;
+    long nst = 0;
+    if (IDAGetNumSteps(mem, &nst) != IDA_SUCCESS) return true;
+    return nst - saved_at_step >= reuse_steps;
+  }
+  /// The system's Jacobian at (t, y, ẏ) with c_j into J, and, with reuse, saved with dF/dẏ.
+  int Evaluate(double t, double cj, const double* y, const double* yp, SUNMatrix J);
+  /// J = saved matrix + (c_j − saved c_j) dF/dẏ.
+  void FormFromSaved(double cj, SUNMatrix J) const;
+  /// KLU: the pattern's entries of the zeroed-between-calls N×N scratch D into values (and,
+  /// if given, the pattern's indices), clearing them in D; every kPatternCheckInterval-th call
+  /// and the first, D is checked for an entry outside the pattern (a model bug).
+  void GatherPattern(double* D, double* values, sunindextype* colptr, sunindextype* rowind);
+  /// Installs ReusingLSetup in the Newton solver if IDA has (re-)installed its own.
+  void WrapNewtonSetup();
+
   /// After each step: at the end of a window of kGrowthWindow steps, limits the step growth
   /// to kGuardedEtaMax if more than half of them failed the error test, or lifts the limit
   /// after kGuardedWindows guarded windows (kGrowthWindow, above).
@@ -149,7 +181,8 @@ struct IdaIntegrator::Impl {
     long v = 0;
     if (IDAGetNumSteps(mem, &v) == IDA_SUCCESS) s.steps = v;
     if (IDAGetNumResEvals(mem, &v) == IDA_SUCCESS) s.residual_evaluations = v;
-    if (IDAGetNumJacEvals(mem, &v) == IDA_SUCCESS) s.jacobian_evaluations = v;
+    if (IDAGetNumJacEvals(mem, &v) == IDA_SUCCESS) s.matrix_setups = v;
+    s.jacobian_evaluations = evaluations;
     if (IDAGetNumNonlinSolvIters(mem, &v) == IDA_SUCCESS) s.nonlinear_iterations = v;
     if (IDAGetNumNonlinSolvConvFails(mem, &v) == IDA_SUCCESS) s.nonlinear_convergence_failures = v;
     if (IDAGetNumErrTestFails(mem, &v) == IDA_SUCCESS) s.error_test_failures = v;
@@ -177,56 +210,33 @@ static int IdaResidual(realtype t, N_Vector y, N_Vector yp, N_Vector r, void* us
 static int IdaJacobian(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vector /*r*/,
                        SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
   auto* impl = static_cast<IdaIntegrator::Impl*>(user);
-  impl->newton_rate_factor = 20.0;  // a fresh iteration matrix (IdaNewtonConvTest)
+  impl->newton_rate_factor = 20.0;  // a new iteration matrix (IdaNewtonConvTest)
   impl->newton_fresh_setup = true;
   try {
     const ScopeTimer timer(impl->time_calls ? &impl->jacobian_seconds : nullptr);
-    const int n = impl->n;
-    int rc = 0;
-    if (!impl->sparse) {  // IDA zeroes J before it calls a direct solver's Jacobian
-      rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), SM_DATA_D(J));
-    } else {
-      // The system adds its entries into a zeroed column-major scratch; only the pattern's
-      // entries are gathered into the fixed CSC pattern and cleared again, so a Jacobian costs
-      // the entries written and nnz, not N². An entry outside the pattern is a model bug; the
-      // whole scratch is checked for one at the first Jacobian and at every
-      // kPatternCheckInterval-th (an entry outside is never gathered, so until then it only
-      // costs Newton iterations, never the solution, which the residual decides). IDA zeroes
-      // the matrix before each call, its index arrays included (SUNMatZero_Sparse), so the
-      // pattern's indices are written again with the values.
-      double* D = impl->dense_scratch.data();
-      rc = impl->system->Jacobian(t, cj, NV_DATA_S(y), NV_DATA_S(yp), D);
-      const SparsityPattern& p = impl->pattern;
-      sunindextype* colptr = SM_INDEXPTRS_S(J);
-      sunindextype* rowind = SM_INDEXVALS_S(J);
-      realtype* val = SM_DATA_S(J);
-      for (int c = 0; c <= n; ++c) colptr[c] = p.col_ptr[c];
-      for (int64_t c = 0; c < n; ++c) {
-        double* col = D + c * n;
-        for (int64_t k = p.col_ptr[c]; k < p.col_ptr[c + 1]; ++k) {
-          const int64_t r = p.row_index[k];
-          rowind[k] = r;
-          val[k] = col[r];
-          col[r] = 0.0;
-        }
-      }
-      if (impl->sparse_jacobians++ % kPatternCheckInterval == 0) {
-        const size_t total = static_cast<size_t>(n) * n;
-        for (size_t i = 0; i < total; ++i) {
-          if (D[i] != 0.0) {
-            const int64_t c = static_cast<int64_t>(i / n), r = static_cast<int64_t>(i % n);
-            std::fill(impl->dense_scratch.begin(), impl->dense_scratch.end(), 0.0);
-            throw NumericalError("Jacobian entry (" + std::to_string(r) + ", " + std::to_string(c) +
-                                 ") lies outside the sparsity pattern (model bug)");
-          }
-        }
-      }
+    impl->last_setup_evaluated = impl->EvaluationDue();
+    if (!impl->last_setup_evaluated) {
+      impl->FormFromSaved(cj, J);
+      return 0;
     }
-    return rc;
+    return impl->Evaluate(t, cj, NV_DATA_S(y), NV_DATA_S(yp), J);
   } catch (...) {
     impl->pending = std::current_exception();
     return -1;
   }
+}
+
+// IDA's set-up (the Newton solver's LSetup) with the Jacobian's status as IdaJacobian left it:
+// a matrix formed from a saved Jacobian is not current, so SUNNonlinSol_Newton retries a failed
+// solve with jbad set, which evaluates (IntegratorOptions::jacobian_reuse_steps).
+static int ReusingLSetup(booleantype jbad, booleantype* jcur, void* ida_mem) {
+  void* user = nullptr;
+  if (IDAGetUserData(ida_mem, &user) != IDA_SUCCESS || user == nullptr) return -1;
+  auto* impl = static_cast<IdaIntegrator::Impl*>(user);
+  if (jbad) impl->must_evaluate = true;
+  const int rc = impl->ida_lsetup(jbad, jcur, ida_mem);
+  *jcur = impl->last_setup_evaluated ? SUNTRUE : SUNFALSE;
+  return rc;
 }
 
 static int IdaRoots(realtype t, N_Vector y, N_Vector yp, realtype* g, void* user) {
@@ -351,6 +361,7 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   base.steps += cur.steps;
   base.residual_evaluations += cur.residual_evaluations;
   base.jacobian_evaluations += cur.jacobian_evaluations;
+  base.matrix_setups += cur.matrix_setups;
   base.nonlinear_iterations += cur.nonlinear_iterations;
   base.nonlinear_convergence_failures += cur.nonlinear_convergence_failures;
   base.error_test_failures += cur.error_test_failures;
@@ -361,6 +372,8 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   window_steps = window_error_test_failures = 0;
   step_limiting_counted = 0;
   newton_rate_factor = 20.0;
+  evaluations = 0;
+  must_evaluate = true;
   ++reinits;
 }
 
@@ -399,6 +412,7 @@ void IdaIntegrator::Impl::CreateIda(double t0, const IntegratorOptions& options)
   CheckFlag(IDASetNonlinearSolver(mem, NLS), "IDASetNonlinearSolver");
   CheckFlag(SUNNonlinSolSetConvTestFn(NLS, IdaNewtonConvTest, this), "SUNNonlinSolSetConvTestFn");
   rel_tol = options.rel_tol;
+  reuse_steps = options.jacobian_reuse_steps;
   scale_algebraic = options.scale_algebraic_weights_by_step;
   initial_step = options.initial_step;
   time_calls = options.time_calls;
@@ -441,6 +455,12 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
     A = CheckPointer(SUNDenseMatrix(n, n, ctx), "SUNDenseMatrix");
     inner = MakeDenseLuSolver(A, ctx);
   }
+  if (reuse_steps > 0) {
+    const size_t stored = sparse ? static_cast<size_t>(pattern.nnz()) : static_cast<size_t>(n) * n;
+    saved_matrix.assign(stored, 0.0);
+    saved_dfdyp.assign(stored, 0.0);
+    if (sparse) dfdyp_scratch.assign(static_cast<size_t>(n) * n, 0.0);
+  }
   LS = MakeTimedSolver(inner, time_calls ? &linear_seconds : nullptr, ctx);
   CheckFlag(IDASetLinearSolver(mem, LS, A), "IDASetLinearSolver");
   CheckFlag(IDASetJacFn(mem, IdaJacobian), "IDASetJacFn");
@@ -449,6 +469,91 @@ void IdaIntegrator::Impl::AttachLinearSolverAndRoots(LinearSolverKind kind) {
     CheckFlag(IDARootInit(mem, nr, IdaRoots), "IDARootInit");
     CheckFlag(IDASetNoInactiveRootWarn(mem), "IDASetNoInactiveRootWarn");
   }
+}
+
+int IdaIntegrator::Impl::Evaluate(double t, double cj, const double* yv, const double* ypv,
+                                  SUNMatrix J) {
+  ++evaluations;
+  const bool save = reuse_steps > 0;
+  int rc = 0;
+  if (!sparse) {  // IDA zeroes J before it calls a direct solver's Jacobian
+    double* Jd = SM_DATA_D(J);
+    if (save) {
+      std::fill(saved_dfdyp.begin(), saved_dfdyp.end(), 0.0);
+      rc = system->JacobianAndDerivativePart(t, cj, yv, ypv, Jd, saved_dfdyp.data());
+      std::copy(Jd, Jd + saved_matrix.size(), saved_matrix.begin());
+    } else {
+      rc = system->Jacobian(t, cj, yv, ypv, Jd);
+    }
+  } else {
+    // The system adds its entries into a zeroed column-major scratch; only the pattern's
+    // entries are gathered into the fixed CSC pattern (GatherPattern), so a Jacobian costs the
+    // entries written and nnz, not N². IDA zeroes the matrix before each call, its index
+    // arrays included (SUNMatZero_Sparse), so the pattern's indices are written again.
+    double* D = dense_scratch.data();
+    ++sparse_jacobians;
+    if (save) {
+      rc = system->JacobianAndDerivativePart(t, cj, yv, ypv, D, dfdyp_scratch.data());
+      GatherPattern(dfdyp_scratch.data(), saved_dfdyp.data(), nullptr, nullptr);
+    } else {
+      rc = system->Jacobian(t, cj, yv, ypv, D);
+    }
+    GatherPattern(D, SM_DATA_S(J), SM_INDEXPTRS_S(J), SM_INDEXVALS_S(J));
+    if (save) std::copy(SM_DATA_S(J), SM_DATA_S(J) + saved_matrix.size(), saved_matrix.begin());
+  }
+  must_evaluate = save && rc != 0;
+  if (save && rc == 0) {
+    saved_cj = cj;
+    if (IDAGetNumSteps(mem, &saved_at_step) != IDA_SUCCESS) must_evaluate = true;
+  }
+  return rc;
+}
+
+void IdaIntegrator::Impl::FormFromSaved(double cj, SUNMatrix J) const {
+  const double dcj = cj - saved_cj;
+  double* out = sparse ? SM_DATA_S(J) : SM_DATA_D(J);
+  for (size_t i = 0; i < saved_matrix.size(); ++i) out[i] = saved_matrix[i] + dcj * saved_dfdyp[i];
+  if (sparse) {
+    sunindextype* colptr = SM_INDEXPTRS_S(J);
+    sunindextype* rowind = SM_INDEXVALS_S(J);
+    for (int c = 0; c <= n; ++c) colptr[c] = pattern.col_ptr[c];
+    for (int64_t k = 0; k < pattern.nnz(); ++k) rowind[k] = pattern.row_index[k];
+  }
+}
+
+void IdaIntegrator::Impl::GatherPattern(double* D, double* values, sunindextype* colptr,
+                                        sunindextype* rowind) {
+  const SparsityPattern& p = pattern;
+  if (colptr != nullptr) {
+    for (int c = 0; c <= n; ++c) colptr[c] = p.col_ptr[c];
+  }
+  for (int64_t c = 0; c < n; ++c) {
+    double* col = D + c * n;
+    for (int64_t k = p.col_ptr[c]; k < p.col_ptr[c + 1]; ++k) {
+      const int64_t r = p.row_index[k];
+      if (rowind != nullptr) rowind[k] = r;
+      values[k] = col[r];
+      col[r] = 0.0;
+    }
+  }
+  // An entry outside the pattern is never gathered, so until it is found it only costs
+  // Newton iterations, never the solution, which the residual decides.
+  if ((sparse_jacobians - 1) % kPatternCheckInterval != 0) return;
+  const size_t total = static_cast<size_t>(n) * n;
+  for (size_t i = 0; i < total; ++i) {
+    if (D[i] == 0.0) continue;
+    const int64_t c = static_cast<int64_t>(i / n), r = static_cast<int64_t>(i % n);
+    std::fill(D, D + total, 0.0);
+    throw NumericalError("Jacobian entry (" + std::to_string(r) + ", " + std::to_string(c) +
+                         ") lies outside the sparsity pattern (model bug)");
+  }
+}
+
+void IdaIntegrator::Impl::WrapNewtonSetup() {
+  auto* content = static_cast<SUNNonlinearSolverContent_Newton>(NLS->content);
+  if (content->LSetup == nullptr || content->LSetup == ReusingLSetup) return;
+  ida_lsetup = content->LSetup;
+  CheckFlag(SUNNonlinSolSetLSetupFn(NLS, ReusingLSetup), "SUNNonlinSolSetLSetupFn");
 }
 
 bool IdaIntegrator::Impl::LargestWeightedError(bool controlled_only, int* index, double* value) {
@@ -544,6 +649,9 @@ StepResult IdaIntegrator::Step(double tout) {
   Impl& I = *impl_;
   poly_order_ = -1;  // as Initialize: a new step moves IDA's divided differences
   realtype tret = 0.0;
+  // IDA installs its own set-up in the Newton solver at the first step after each
+  // (re-)initialisation (that step evaluates anyway); wrapped from the next call on.
+  if (I.reuse_steps > 0) I.WrapNewtonSetup();
   const int flag = IDASolve(I.mem, tout, &tret, I.y, I.yp, IDA_ONE_STEP);
   if (I.pending) {
     std::exception_ptr e = I.pending;
@@ -779,6 +887,7 @@ IntegratorStats IdaIntegrator::stats() const {
   s.steps += I.base.steps;
   s.residual_evaluations += I.base.residual_evaluations;
   s.jacobian_evaluations += I.base.jacobian_evaluations;
+  s.matrix_setups += I.base.matrix_setups;
   s.nonlinear_iterations += I.base.nonlinear_iterations;
   s.nonlinear_convergence_failures += I.base.nonlinear_convergence_failures;
   s.error_test_failures += I.base.error_test_failures;

@@ -49,6 +49,12 @@ class DaeSystem {
   virtual int Residual(double t, const double* y, const double* yp, double* r) = 0;
   /// Adds dF/dy + cj dF/dẏ into the zeroed column-major N×N array jac.
   virtual int Jacobian(double t, double cj, const double* y, const double* yp, double* jac) = 0;
+  /// As Jacobian, and adds dF/dẏ alone into the zeroed N×N array dfdyp: the iteration matrix
+  /// for another c_j is then jac + (c_j' − c_j) dfdyp, without an evaluation
+  /// (IntegratorOptions::jacobian_reuse_steps). Default: a second Jacobian at c_j + 1, minus
+  /// the first.
+  virtual int JacobianAndDerivativePart(double t, double cj, const double* y, const double* yp,
+                                        double* jac, double* dfdyp);
   /// Non-zero pattern of the Jacobian (used by the sparse solver only). Default: dense.
   virtual SparsityPattern JacobianPattern() const;
   virtual int Roots(double /*t*/, const double* /*y*/, const double* /*yp*/, double* /*g*/) {
@@ -69,6 +75,15 @@ inline constexpr double kDenseFillThreshold = 0.2;
 /// first Jacobian and every this many.
 inline constexpr long kPatternCheckInterval = 64;
 
+/// Default of IntegratorOptions::jacobian_reuse_steps. Measured (CPU, minimum of 3 runs, against
+/// 0): the exudyn-match clearance case 2.24 -> 2.03 s (53 182 -> about 12 000 evaluations), its
+/// ideal case 0.121 -> 0.117 s, the main job 1.84 -> 1.79 s, bench_mb_rigid_crank's full-FE rod
+/// 4.6 -> 2.5 s (dense) and 5.7 -> 3.5 s (KLU). 50 steps gave the same on the first three but
+/// more than twice the steps on that benchmark's 8-mode slider-crank, whose steps of 2 ms turn
+/// the frame several degrees each: an old matrix converges the Newton iteration less far, and
+/// IDA's error estimate, which sees the remainder, then does not let the step double.
+inline constexpr int kJacobianReuseSteps = 20;
+
 struct IntegratorOptions {
   double rel_tol{1e-6};              ///< relative tolerance [-], in (0, 1)
   double abs_tol{1e-8};              ///< absolute tolerance (scaled per unknown by the system) [SI]
@@ -83,6 +98,16 @@ struct IntegratorOptions {
   /// Re-factor the iteration matrix when |c_j/c_j,old − 1| exceeds this (IDASetDeltaCjLSetup),
   /// >= 0; IDA default 0.25.
   double jacobian_refresh_cj_change{0.25};
+  /// IDA evaluates the Jacobian whenever it sets up the iteration matrix dF/dy + c_j dF/dẏ,
+  /// which it does at every change of c_j beyond jacobian_refresh_cj_change. With this > 0,
+  /// a set-up within this many steps of the last evaluation forms the matrix for the new c_j
+  /// from the saved dF/dy and dF/dẏ instead (modified Newton, as CVODE keeps its Jacobian for
+  /// up to 50 steps; SUNDIALS CVODE user guide, "Linear solver interface"), and tells the
+  /// Newton solver the matrix is not current: a Newton failure on it is retried on a fresh
+  /// evaluation before the step is cut, as a failure on an old matrix is. The first set-up
+  /// after a (re-)initialisation always evaluates. The solution is decided by the residual and
+  /// the convergence test, not the matrix. 0: evaluate at every set-up (IDA's rule).
+  int jacobian_reuse_steps{kJacobianReuseSteps};
   LinearSolverKind linear_solver{LinearSolverKind::kAuto};
   /// kAuto: the dense LU from this fraction of non-zeros in the iteration matrix on, KLU below.
   double dense_fill_threshold{kDenseFillThreshold};
@@ -110,7 +135,10 @@ struct IntegratorOptions {
 struct IntegratorStats {
   long steps{0};
   long residual_evaluations{0};
-  long jacobian_evaluations{0};
+  long jacobian_evaluations{0};  ///< evaluations of dF/dy (DaeSystem::Jacobian)
+  /// iteration matrices set up and factored: the evaluations plus the matrices formed for a new
+  /// c_j from saved parts (IntegratorOptions::jacobian_reuse_steps)
+  long matrix_setups{0};
   long nonlinear_iterations{0};
   long nonlinear_convergence_failures{0};
   long error_test_failures{0};

@@ -25,6 +25,16 @@ void DaeSystem::StepScaledWeightMask(double* mask) const {
   for (int i = 0; i < size(); ++i) mask[i] = mask[i] == 0.0 ? 1.0 : 0.0;
 }
 
+int DaeSystem::JacobianAndDerivativePart(double t, double cj, const double* y, const double* yp,
+                                         double* jac, double* dfdyp) {
+  const int rc = Jacobian(t, cj, y, yp, jac);
+  if (rc != 0) return rc;
+  const int rc1 = Jacobian(t, cj + 1.0, y, yp, dfdyp);
+  const size_t nn = static_cast<size_t>(size()) * static_cast<size_t>(size());
+  for (size_t i = 0; i < nn; ++i) dfdyp[i] -= jac[i];
+  return rc1;
+}
+
 SparsityPattern DaeSystem::JacobianPattern() const {
   SparsityPattern p;
   const int n = size();
@@ -69,6 +79,8 @@ void IntegratorOptions::Validate() const {
           "integrator.nonlinear_convergence_coefficient", nonlinear_convergence_coefficient,
           "must be in (0, 1)");
   RequireNonNegative("integrator.jacobian_refresh_cj_change", jacobian_refresh_cj_change);
+  Require(jacobian_reuse_steps >= 0, "integrator.jacobian_reuse_steps", jacobian_reuse_steps,
+          "must be >= 0");
   Require(dense_fill_threshold >= 0.0 && dense_fill_threshold <= 1.0,
           "integrator.dense_fill_threshold", dense_fill_threshold, "must be in [0, 1]");
 }

@@ -366,6 +366,7 @@ MechanismDae::MechanismDae(const Mechanism& model, RunData* data,
       yp_full_(Vec::Zero(model.size())),
       r_full_(Vec::Zero(model.size())),
       jac_full_(Mat::Zero(model.size(), model.size())),
+      dfdyp_full_(Mat::Zero(model.size(), model.size())),
       full_pattern_(multibody::JacobianPattern(model)) {
   FLEXROD_ASSERT(data->model == &model);
   FLEXROD_ASSERT(prescribed.full_size() == model.size());
@@ -429,13 +430,25 @@ int MechanismDae::Residual(double t, const double* y, const double* yp, double* 
 }
 
 int MechanismDae::Jacobian(double t, double cj, const double* y, const double* yp, double* jac) {
+  return AddJacobians(t, cj, y, yp, jac, nullptr);
+}
+
+int MechanismDae::JacobianAndDerivativePart(double t, double cj, const double* y, const double* yp,
+                                            double* jac, double* dfdyp) {
+  return AddJacobians(t, cj, y, yp, jac, dfdyp);
+}
+
+int MechanismDae::AddJacobians(double t, double cj, const double* y, const double* yp, double* jac,
+                               double* dfdyp) {
   if (prescribed_.num_prescribed_coordinates() == 0) {
-    return AddJacobian(model_, data_, t, cj, y, yp, jac, model_.size());
+    return AddJacobian(model_, data_, t, cj, y, yp, jac, model_.size(), dfdyp);
   }
   Expand(t, y, yp);
-  const int rc = AddJacobian(model_, data_, t, cj, y_full_.data(), yp_full_.data(),
-                             jac_full_.data(), model_.size());
+  const int rc =
+      AddJacobian(model_, data_, t, cj, y_full_.data(), yp_full_.data(), jac_full_.data(),
+                  model_.size(), dfdyp != nullptr ? dfdyp_full_.data() : nullptr);
   prescribed_.MoveReducedMatrix(full_pattern_, jac_full_.data(), jac);
+  if (dfdyp != nullptr) prescribed_.MoveReducedMatrix(full_pattern_, dfdyp_full_.data(), dfdyp);
   // An entry outside the pattern is neither moved nor cleared: a model bug, looked for as
   // IdaIntegrator looks in the reduced matrix (kPatternCheckInterval).
   if (jacobians_++ % kPatternCheckInterval == 0) {

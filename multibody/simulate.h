@@ -91,6 +91,10 @@ class MechanismDae final : public DaeSystem {
   void RelativeToleranceCaps(double* caps) const override;
   int Residual(double t, const double* y, const double* yp, double* r) override;
   int Jacobian(double t, double cj, const double* y, const double* yp, double* jac) override;
+  /// In one evaluation: dF/dẏ is the identities of the position and state rows and the
+  /// bodies' mass matrices (AddJacobian).
+  int JacobianAndDerivativePart(double t, double cj, const double* y, const double* yp, double* jac,
+                                double* dfdyp) override;
   SparsityPattern JacobianPattern() const override;
   int Roots(double t, const double* y, const double* yp, double* g) override;
   int index_root() const;  ///< position of the index root, −1 if none
@@ -103,9 +107,12 @@ class MechanismDae final : public DaeSystem {
   std::optional<IndexEventSpec> index_;
   double velocity_tol_scale_, energy_tol_scale_;
   Vec y_full_, yp_full_, r_full_;  ///< full-layout scratch
-  Mat jac_full_;                   // zero between Jacobians (MoveReducedMatrix)
-  SparsityPattern full_pattern_;   // the full Jacobian's
-  long jacobians_{0};              // Jacobians evaluated (the pattern check's interval)
+  /// dfdyp null: Jacobian; else JacobianAndDerivativePart.
+  int AddJacobians(double t, double cj, const double* y, const double* yp, double* jac,
+                   double* dfdyp);
+  Mat jac_full_, dfdyp_full_;     // zero between Jacobians (MoveReducedMatrix)
+  SparsityPattern full_pattern_;  // the full Jacobian's
+  long jacobians_{0};             // Jacobians evaluated (the pattern check's interval)
 };
 
 // ---- run loop -----------------------------------------------------------------------------------

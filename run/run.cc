@@ -45,6 +45,7 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
                       {"steps", st.stats.steps},
                       {"residual_evaluations", st.stats.residual_evaluations},
                       {"jacobian_evaluations", st.stats.jacobian_evaluations},
+                      {"matrix_setups", st.stats.matrix_setups},
                       {"nonlinear_iterations", st.stats.nonlinear_iterations},
                       {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
                       {"error_test_failures", st.stats.error_test_failures},

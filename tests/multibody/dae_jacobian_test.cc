@@ -1,6 +1,7 @@
 // tests/multibody/dae_jacobian_test.cc — the iteration Jacobian dF/dy + c_j dF/dẏ agrees
 // with a high-accuracy (Richardson-extrapolated central-difference) Jacobian of the
-// residual for a mechanism that uses every feature; its non-zeros lie inside the sparsity
+// residual for a mechanism that uses every feature, and so does its part dF/dẏ alone; its
+// non-zeros lie inside the sparsity
 // pattern given to KLU; and one residual evaluation performs no heap allocation.
 //
 // Allocation check: EIGEN_RUNTIME_NO_MALLOC is defined for every source (CMakeLists.txt),
@@ -111,6 +112,38 @@ TEST(DaeJacobian, IterationMatrixMatchesFiniteDifferencesAtLargeCj) {
 }
 
 TEST(DaeJacobian, MatchesFiniteDifferencesAtAnotherState) { ExpectJacobianMatches(37.0, 3); }
+
+// dF/dẏ alone (AddJacobian's dfdyp: the identities of F1 and F5, the bodies' mass matrices in
+// F2, flexible ones included), which the integrator saves to form the iteration matrix for
+// another c_j without an evaluation: against central differences of the residual in ẏ, and
+// the jac it fills alongside equal, bit for bit, to the Jacobian without it.
+TEST(DaeJacobian, DerivativePartMatchesFiniteDifferencesInTheRates) {
+  auto c = BuildComposite(true, DampingSpec::ModalRatio({0.02, 0.05, 0.1, 0.3}), Kernel::kAuto);
+  const Mechanism& m = c.model;
+  RunData data(m);
+  Vec y, yp;
+  RandomState(m, 10, &y, &yp);
+  const double t = 0.37, cj = 2.5e3;
+  const int N = m.size();
+  Mat J = Mat::Zero(N, N), B = Mat::Zero(N, N);
+  ASSERT_EQ(AddJacobian(m, &data, t, cj, y.data(), yp.data(), J.data(), N, B.data()), 0);
+  EXPECT_EQ((J - CalcJacobian(m, &data, t, cj, y, yp)).cwiseAbs().maxCoeff(), 0.0);
+  // F is affine in ẏ: a central difference is exact up to round-off, which a large step keeps
+  // small against the residual's size.
+  Mat B_fd(N, N);
+  for (int i = 0; i < N; ++i) {
+    const double h = std::max(1.0, std::abs(yp(i)));
+    Vec yp1 = yp, yp2 = yp;
+    yp1(i) += h;
+    yp2(i) -= h;
+    B_fd.col(i) = (CalcResidual(m, &data, t, y, yp1) - CalcResidual(m, &data, t, y, yp2)) / (2 * h);
+  }
+  const Mismatch w = Compare(B, B_fd);
+  EXPECT_LE(w.worst, 1e-9) << "worst entry d " << m.VariableName(w.row) << " / d(rate of) "
+                           << m.VariableName(w.col) << ": " << B(w.row, w.col) << " against "
+                           << B_fd(w.row, w.col);
+  EXPECT_GT(B.cwiseAbs().maxCoeff(), 0.0);
+}
 
 // The damping acts on the rates of the second-order strains (D on q̃̇, q̃ = q + E⁺P s(q)), a
 // force nonlinear in q and q̇ with its own analytic Jacobian: the modal damping of the tests

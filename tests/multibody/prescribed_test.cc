@@ -177,22 +177,33 @@ TEST(PrescribedMotion, ExpandRebuildsTheConsistentFullState) {
   EXPECT_LE(res.cwiseAbs().maxCoeff(), 1e-7 * std::max(1.0, acc_scale));
 }
 
+// The rig's reduced DAE on the profile's ramp (t = 0.1 s, in its second segment, [0.05, 0.2]
+// s), at a state 1e-3 off the consistent one (λ ≠ 0).
+struct ReducedRigOffSolution {
+  static constexpr double t = 0.1;  // [s]
+  Rig r{BuildRig()};
+  RunData data{r.model};
+  PrescribedMotion pm{r.model, true};
+  MechanismDae dae{r.model, &data, pm, std::nullopt};
+  int n{pm.size()};
+  Vec y{Vec(n)}, yp{Vec(n)};
+  ReducedRigOffSolution() {
+    const ConsistentState s = ComputeConsistentState(r.model, &data, t, r.guess);
+    pm.StartSegment(0.05);
+    pm.Reduce(s.y.data(), y.data());
+    pm.Reduce(s.yp.data(), yp.data());
+    for (int i = 0; i < n; ++i) y(i) += 1e-3 * std::sin(1.0 + i);
+  }
+};
+
 // Central differences with Richardson extrapolation of the reduced residual, as in
 // dae_jacobian_test.cc: error O(h⁴) + O(ε/h).
 TEST(PrescribedMotion, ReducedJacobianMatchesFiniteDifferencesOfTheReducedResidual) {
-  const Rig r = BuildRig();
-  const Mechanism& m = r.model;
-  RunData data(m);
-  const double t = 0.1, cj = 3.7e3;
-  const ConsistentState s = ComputeConsistentState(m, &data, t, r.guess);
-  PrescribedMotion pm(m, true);
-  pm.StartSegment(0.05);
-  MechanismDae dae(m, &data, pm, std::nullopt);
-  const int n = pm.size();
-  Vec y(n), yp(n);
-  pm.Reduce(s.y.data(), y.data());
-  pm.Reduce(s.yp.data(), yp.data());
-  for (int i = 0; i < n; ++i) y(i) += 1e-3 * std::sin(1.0 + i);  // off the solution, λ ≠ 0
+  ReducedRigOffSolution f;
+  MechanismDae& dae = f.dae;
+  const Vec &y = f.y, &yp = f.yp;
+  const int n = f.n;
+  const double t = f.t, cj = 3.7e3;
   Mat J = Mat::Zero(n, n);
   ASSERT_EQ(dae.Jacobian(t, cj, y.data(), yp.data(), J.data()), 0);
   // The full matrix it assembles in is cleared entry by entry (its pattern's): a second
@@ -233,6 +244,40 @@ TEST(PrescribedMotion, ReducedJacobianMatchesFiniteDifferencesOfTheReducedResidu
     for (int64_t k = pat.col_ptr[c]; k < pat.col_ptr[c + 1]; ++k) inside(pat.row_index[k], c) = 1.0;
   }
   EXPECT_EQ((J.array() != 0.0 && inside.array() == 0.0).count(), 0);
+}
+
+// JacobianAndDerivativePart gives, in one evaluation, the Jacobian bit for bit and dF/dẏ
+// alone: the matrix the integrator forms for another c_j from the saved parts
+// (IntegratorOptions::jacobian_reuse_steps). dF/dẏ is checked against central differences of
+// the reduced residual in ẏ (exact up to round-off: F is affine in ẏ), and the matrix formed
+// for another c_j against the Jacobian evaluated there.
+TEST(PrescribedMotion, DerivativePartIsTheResidualsDerivativeInTheRates) {
+  ReducedRigOffSolution f;
+  MechanismDae& dae = f.dae;
+  const Vec &y = f.y, &yp = f.yp;
+  const int n = f.n;
+  const double t = f.t, cj = 3.7e3, cj_other = 9.1e4;
+  Mat J = Mat::Zero(n, n), B = Mat::Zero(n, n), J_ref = Mat::Zero(n, n);
+  ASSERT_EQ(dae.JacobianAndDerivativePart(t, cj, y.data(), yp.data(), J.data(), B.data()), 0);
+  ASSERT_EQ(dae.Jacobian(t, cj, y.data(), yp.data(), J_ref.data()), 0);
+  EXPECT_EQ((J - J_ref).cwiseAbs().maxCoeff(), 0.0);
+  Mat B_fd(n, n);
+  for (int i = 0; i < n; ++i) {
+    const double h = std::max(1.0, std::abs(yp(i)));  // F is affine in ẏ
+    Vec yp1 = yp, yp2 = yp, r1(n), r2(n);
+    yp1(i) += h;
+    yp2(i) -= h;
+    ASSERT_EQ(dae.Residual(t, y.data(), yp1.data(), r1.data()), 0);
+    ASSERT_EQ(dae.Residual(t, y.data(), yp2.data(), r2.data()), 0);
+    B_fd.col(i) = (r1 - r2) / (2.0 * h);
+  }
+  const double scale = B_fd.cwiseAbs().maxCoeff();
+  EXPECT_GT(scale, 0.0);
+  EXPECT_LE((B - B_fd).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  Mat J_other = Mat::Zero(n, n);
+  ASSERT_EQ(dae.Jacobian(t, cj_other, y.data(), yp.data(), J_other.data()), 0);
+  const Mat formed = J + (cj_other - cj) * B;
+  EXPECT_LE((formed - J_other).cwiseAbs().maxCoeff(), 1e-12 * J_other.cwiseAbs().maxCoeff());
 }
 
 struct Trace {
