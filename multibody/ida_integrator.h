@@ -101,8 +101,8 @@ struct IntegratorOptions {
   /// IDA evaluates the Jacobian whenever it sets up the iteration matrix dF/dy + c_j dF/dẏ,
   /// which it does at every change of c_j beyond jacobian_refresh_cj_change. With this > 0,
   /// a set-up within this many steps of the last evaluation forms the matrix for the new c_j
-  /// from the saved dF/dy and dF/dẏ instead (modified Newton, as CVODE keeps its Jacobian for
-  /// up to 50 steps; SUNDIALS CVODE user guide, "Linear solver interface"), and tells the
+  /// from the saved dF/dy and dF/dẏ instead (modified Newton, as CVODE keeps its Jacobian over
+  /// a number of steps, CVodeSetJacEvalFrequency, and forms I − γJ anew), and tells the
   /// Newton solver the matrix is not current: a Newton failure on it is retried on a fresh
   /// evaluation before the step is cut, as a failure on an old matrix is. The first set-up
   /// after a (re-)initialisation always evaluates. The solution is decided by the residual and
