@@ -552,12 +552,18 @@ TEST(RunRobustness, AnEnergyBalanceErrorAboveOnePercentIsWarnedAbout) {
   }
 }
 
-// A user who loosens the tolerances to go faster must not get a slower run. The exudyn-match
-// ideal joint (benchmarks/exudyn-match.toml, 1 s) at rel_tol 1e-5 / abs_tol 1e-9 caught IDA's
-// step control at a stiff elastic frequency of the rod: without the step-growth guard
-// (multibody/ida_integrator.cc, kGrowthWindow) it failed the error test on 24 578 of 26 860
-// steps with 49 162 Jacobians, against 10 016 steps at the defaults. Measured with the guard:
-// 11 151 steps, 575 error-test failures, 2 361 Jacobians.
+// Loosened tolerances must not catch IDA's step control. The exudyn-match ideal joint
+// (benchmarks/exudyn-match.toml, 1 s) at rel_tol 1e-5 / abs_tol 1e-9 caught it at a stiff
+// elastic frequency of the rod: without the step-growth guard (multibody/ida_integrator.cc,
+// kGrowthWindow) it failed the error test on 24 578 of 26 860 steps with 49 162 Jacobians,
+// against 10 016 steps at the defaults. Measured with the guard and the Jacobian reuse: 11 575
+// steps against 10 037, 595 error-test failures, 2 844 matrix set-ups. The step ratio moves with
+// round-off (0.99 to 1.20 over rel_tol 1e-5 × (1 ± 1e-6) and a rounding change, session 38), so
+// the bound, 1.5, sits between that and the trap's 2.7. Not checked, because it does not hold:
+// that the loose run is faster. It takes about twice the defaults' solver wall (0.064 to
+// 0.066 s against 0.033 to 0.037 s, 3 runs each): 1 750 Newton convergence failures against
+// 34, most diverging at the first iteration on the damping-dissipation quadrature and the
+// rod's first modal velocity.
 TEST(RunRobustness, LoosenedTolerancesDoNotCatchTheStepControl) {
   auto run = [](std::vector<std::string> sets) {
     for (const char* s : {"joint.type=ideal", "sim.sample_rate=10 kHz", "sim.capture=1 s"})
@@ -569,9 +575,9 @@ TEST(RunRobustness, LoosenedTolerancesDoNotCatchTheStepControl) {
   };
   const multibody::IntegratorStats loose = run({"sim.rel_tol=1e-5", "sim.abs_tol=1e-9"});
   const multibody::IntegratorStats tight = run({});
-  EXPECT_LT(loose.steps, 1.2 * tight.steps);
+  EXPECT_LT(loose.steps, 1.5 * tight.steps);
   EXPECT_LT(loose.error_test_failures, loose.steps / 10);
-  EXPECT_LT(loose.jacobian_evaluations, loose.steps / 2);
+  EXPECT_LT(loose.matrix_setups, loose.steps / 2);
 }
 
 TEST(RunRobustness, APenetrationOfATenthOfTheClearanceIsWarnedAbout) {
