@@ -193,81 +193,91 @@ TEST(ImpactLog, ASingleEngineImpactBetweenTwoSamplesMatchesTheContactLayer) {
 }
 
 TEST(ImpactLog, LocatedPeaksMatchTheContactLayerWhereTheStepsMissThem) {
-  // The same single impact at rel_tol 1e-6 (about 40 steps in the contact): the largest force
-  // at a solution point is off the RK8(9) reference by more than 1e-4, the peak located inside
-  // the steps (LocateImpactPeaks) agrees to 2e-6, for the force and the penetration.
+  // The same single impact at rel_tol 1e-6 (about 40 steps in the contact), at six approach
+  // speeds: the peak located inside the steps (LocateImpactPeaks) agrees with the RK8(9)
+  // reference to 2e-6, for the force and the penetration, at every speed; the largest force at
+  // a solution point misses it by more than 1e-4 at one speed at least. How far the nearest
+  // solution point falls from the peak depends on where the steps land: measured 6.1e-5 to
+  // 1.8e-4 over these speeds, three of them above 1e-4. The test used one speed (0.5 m/s), and
+  // a change of the Newton iteration that moved the steps took its miss to 4e-5.
   using namespace multibody;
-  const double mass = 1.0, speed = 0.5, c = testing::RigJointGeometry().clearance();
+  const double mass = 1.0, c = testing::RigJointGeometry().clearance();
   const contact::NormalLaw law = testing::RigLaw("hybrid", 0.9);
-  const contact::ImpactResult ref = contact::SimulateImpact(law, mass, speed);
   const Vec2 n(std::cos(0.3), std::sin(0.3));
   const testing::PinInBush p = testing::BuildPinInBush(law, std::nullopt, mass);
-  SimulationOptions opt;
-  opt.t_end = c / speed + 4e-4;
-  opt.sample_rate = 1e3;  // no sample inside the 0.12 ms contact
-  opt.integrator.rel_tol = 1e-6;
-  opt.integrator.abs_tol = 1e-12;
-  for (const bool locate : {false, true}) {
-    SCOPED_TRACE(locate ? "located" : "solution points");
-    RunData data(p.model);
-    ImpactLogger logger;
-    SimulationCallbacks cb;
-    // The search's response at its step's end (LocateImpactPeaks's result) is the solution
-    // point's, bit for bit: run.cc observes the one in place of the other.
-    std::optional<ClearanceResponse> end;
-    double end_time = 0.0;
-    int ends = 0;
-    cb.on_step = [&](const SampleView& s) {
-      const ClearanceResponse r = CalcClearanceResponse(s, p.joint);
-      if (end && end_time == s.t()) {
-        EXPECT_EQ(end->normal_force, r.normal_force);
-        EXPECT_EQ(end->friction_force, r.friction_force);
-        EXPECT_EQ(end->kinematics.penetration, r.kinematics.penetration);
-        EXPECT_EQ(end->kinematics.penetration_rate, r.kinematics.penetration_rate);
-        EXPECT_EQ(end->dissipation(), r.dissipation());
-        EXPECT_EQ(end->onsets, r.onsets);
-        ++ends;
-      }
-      end.reset();
-      logger.Observe(MakeContactPoint(s.t(), 0.0, r));
-    };
-    int compared = 0;  // steps in contact where ElementAt is compared with At
-    if (locate) {
-      cb.on_step_interval = [&](const StepInterpolant& step) {
-        // ElementAt (the peak search's view) evaluates only the joint's unknowns (the pin's,
-        // and the held bush's from its prescribed motion): the same response as At at the
-        // same time, whatever the buffers held before (here the step's start).
-        const double tm = 0.5 * (step.t_begin() + step.t_end());
-        (void)step.At(step.t_begin());
-        const ClearanceResponse some = CalcClearanceResponse(step.ElementAt(tm, p.joint), p.joint);
-        const ClearanceResponse all = CalcClearanceResponse(step.At(tm), p.joint);
-        EXPECT_EQ(some.normal_force, all.normal_force);
-        EXPECT_EQ(some.kinematics.penetration, all.kinematics.penetration);
-        EXPECT_EQ(some.kinematics.penetration_rate, all.kinematics.penetration_rate);
-        if (all.normal_force > 0.0) ++compared;
-        end = LocateImpactPeaks(step, p.joint, &logger);
-        end_time = step.t_end();
+  double largest_miss = 0.0;  // of the solution points' peak force, over the speeds
+  for (const double speed : {0.3, 0.35, 0.45, 0.5, 0.6, 0.7}) {
+    SCOPED_TRACE("approach speed " + std::to_string(speed) + " m/s");
+    const contact::ImpactResult ref = contact::SimulateImpact(law, mass, speed);
+    SimulationOptions opt;
+    opt.t_end = c / speed + 4e-4;
+    opt.sample_rate = 1e3;  // no sample inside the 0.12 ms contact
+    opt.integrator.rel_tol = 1e-6;
+    opt.integrator.abs_tol = 1e-12;
+    for (const bool locate : {false, true}) {
+      SCOPED_TRACE(locate ? "located" : "solution points");
+      RunData data(p.model);
+      ImpactLogger logger;
+      SimulationCallbacks cb;
+      // The search's response at its step's end (LocateImpactPeaks's result) is the solution
+      // point's, bit for bit: run.cc observes the one in place of the other.
+      std::optional<ClearanceResponse> end;
+      double end_time = 0.0;
+      int ends = 0;
+      cb.on_step = [&](const SampleView& s) {
+        const ClearanceResponse r = CalcClearanceResponse(s, p.joint);
+        if (end && end_time == s.t()) {
+          EXPECT_EQ(end->normal_force, r.normal_force);
+          EXPECT_EQ(end->friction_force, r.friction_force);
+          EXPECT_EQ(end->kinematics.penetration, r.kinematics.penetration);
+          EXPECT_EQ(end->kinematics.penetration_rate, r.kinematics.penetration_rate);
+          EXPECT_EQ(end->dissipation(), r.dissipation());
+          EXPECT_EQ(end->onsets, r.onsets);
+          ++ends;
+        }
+        end.reset();
+        logger.Observe(MakeContactPoint(s.t(), 0.0, r));
       };
-    }
-    const SimulationStatus st =
-        Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), speed * n, 0.0), opt, cb);
-    ASSERT_TRUE(st.ok()) << st.Summary();
-    const std::vector<Impact> log = logger.Finish();
-    ASSERT_EQ(log.size(), 1u);
-    const double force_error = std::abs(log[0].peak_force / ref.peak_force - 1.0);
-    const double depth_error = std::abs(log[0].peak_penetration / ref.peak_penetration - 1.0);
-    std::printf("%s: peak force %.9g N (reference %.9g N, %.2e), penetration %.2e\n",
-                locate ? "located" : "solution points", log[0].peak_force, ref.peak_force,
-                force_error, depth_error);
-    if (locate) {
-      EXPECT_GT(compared, 10);
-      EXPECT_GT(ends, 10);
-      EXPECT_LT(force_error, 2e-6);
-      EXPECT_LT(depth_error, 2e-6);
-    } else {
-      EXPECT_GT(force_error, 1e-4);  // what the located peaks fix
+      int compared = 0;  // steps in contact where ElementAt is compared with At
+      if (locate) {
+        cb.on_step_interval = [&](const StepInterpolant& step) {
+          // ElementAt (the peak search's view) evaluates only the joint's unknowns (the pin's,
+          // and the held bush's from its prescribed motion): the same response as At at the
+          // same time, whatever the buffers held before (here the step's start).
+          const double tm = 0.5 * (step.t_begin() + step.t_end());
+          (void)step.At(step.t_begin());
+          const ClearanceResponse some =
+              CalcClearanceResponse(step.ElementAt(tm, p.joint), p.joint);
+          const ClearanceResponse all = CalcClearanceResponse(step.At(tm), p.joint);
+          EXPECT_EQ(some.normal_force, all.normal_force);
+          EXPECT_EQ(some.kinematics.penetration, all.kinematics.penetration);
+          EXPECT_EQ(some.kinematics.penetration_rate, all.kinematics.penetration_rate);
+          if (all.normal_force > 0.0) ++compared;
+          end = LocateImpactPeaks(step, p.joint, &logger);
+          end_time = step.t_end();
+        };
+      }
+      const SimulationStatus st =
+          Simulate(p.model, &data, testing::PinStart(p, Vec2::Zero(), speed * n, 0.0), opt, cb);
+      ASSERT_TRUE(st.ok()) << st.Summary();
+      const std::vector<Impact> log = logger.Finish();
+      ASSERT_EQ(log.size(), 1u);
+      const double force_error = std::abs(log[0].peak_force / ref.peak_force - 1.0);
+      const double depth_error = std::abs(log[0].peak_penetration / ref.peak_penetration - 1.0);
+      std::printf("%s: peak force %.9g N (reference %.9g N, %.2e), penetration %.2e\n",
+                  locate ? "located" : "solution points", log[0].peak_force, ref.peak_force,
+                  force_error, depth_error);
+      if (locate) {
+        EXPECT_GT(compared, 10);
+        EXPECT_GT(ends, 10);
+        EXPECT_LT(force_error, 2e-6);
+        EXPECT_LT(depth_error, 2e-6);
+      } else {
+        largest_miss = std::max(largest_miss, force_error);
+      }
     }
   }
+  EXPECT_GT(largest_miss, 1e-4);  // what the located peaks fix
 }
 
 // ElementAt evaluates only the joint's unknowns; a body the integrator does not carry (a crank
