@@ -4,6 +4,7 @@
 // Notation (ffrf-planar.md): as multibody/dae.cc.
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <algorithm>
+#include <optional>
 #include <set>
 
 #include "common/error.h"
@@ -318,8 +319,8 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
   const int np = model.num_coordinates();
   const int N = model.size();
   JacMap J(jac, N, N, Eigen::OuterStride<>(ld));
-  JacMap B(dfdyp != nullptr ? dfdyp : jac, N, N, Eigen::OuterStride<>(ld));
-  JacMap* Bp = dfdyp != nullptr ? &B : nullptr;
+  std::optional<JacMap> B;  // dF/dẏ alone, if asked for
+  if (dfdyp != nullptr) B.emplace(dfdyp, N, N, Eigen::OuterStride<>(ld));
   const double* p = y;
   const double* v = y + np;
   const double* lam = y + model.lambda_offset();
@@ -335,12 +336,12 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
     J(F1 + i, np + i) -= 1.0;
   }
   for (int i = F5; i < N; ++i) J(i, i) += cj;
-  if (Bp != nullptr) {
-    for (int i = 0; i < np; ++i) B(F1 + i, i) += 1.0;
-    for (int i = F5; i < N; ++i) B(i, i) += 1.0;
+  if (B) {
+    for (int i = 0; i < np; ++i) (*B)(F1 + i, i) += 1.0;
+    for (int i = F5; i < N; ++i) (*B)(i, i) += 1.0;
   }
   for (size_t bi = 0; bi < model.bodies().size(); ++bi)
-    AddBodyJacobian(model, data, bi, cj, p, v, vd, J, Bp);
+    AddBodyJacobian(model, data, bi, cj, p, v, vd, J, B ? &*B : nullptr);
   AddDriverJacobian(model, v, lam, J);
   for (size_t ji = 0; ji < model.joints().size(); ++ji)
     AddJointJacobian(model, data, ji, v, lam, mu, J);

@@ -90,13 +90,12 @@ struct IdaIntegrator::Impl {
   int reuse_steps{0};
   std::vector<double> saved_matrix, saved_dfdyp;
   std::vector<double> dfdyp_scratch;  // KLU: N×N, kept zero between Jacobian calls
-  double saved_cj{0.0};
+  double saved_cj{0.0};               // [1/s]
   long saved_at_step{0};
   bool must_evaluate{true};          // no evaluation since (re-)initialisation, or Newton failed
   bool last_setup_evaluated{false};  // the last set-up evaluated the Jacobian (Newton's jcur)
-  long evaluations{0};               // Jacobian evaluations since the last IDAReInit
+  long evaluations{0};               // Jacobian evaluations in all (stats, pattern checks)
   SUNNonlinSolLSetupFn ida_lsetup{nullptr};  // IDA's set-up, which ReusingLSetup wraps
-  long sparse_jacobians{0};                  // Jacobians gathered into the sparse pattern so far
   bool time_calls{false};                    // IntegratorOptions::time_calls
   bool suppress_algebraic{true};             // IntegratorOptions::suppress_algebraic
   std::vector<long> step_limiting;           // IntegratorOptions::count_step_limiting, by unknown
@@ -182,7 +181,6 @@ struct IdaIntegrator::Impl {
     if (IDAGetNumSteps(mem, &v) == IDA_SUCCESS) s.steps = v;
     if (IDAGetNumResEvals(mem, &v) == IDA_SUCCESS) s.residual_evaluations = v;
     if (IDAGetNumJacEvals(mem, &v) == IDA_SUCCESS) s.matrix_setups = v;
-    s.jacobian_evaluations = evaluations;
     if (IDAGetNumNonlinSolvIters(mem, &v) == IDA_SUCCESS) s.nonlinear_iterations = v;
     if (IDAGetNumNonlinSolvConvFails(mem, &v) == IDA_SUCCESS) s.nonlinear_convergence_failures = v;
     if (IDAGetNumErrTestFails(mem, &v) == IDA_SUCCESS) s.error_test_failures = v;
@@ -360,7 +358,6 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   const IntegratorStats cur = Current();
   base.steps += cur.steps;
   base.residual_evaluations += cur.residual_evaluations;
-  base.jacobian_evaluations += cur.jacobian_evaluations;
   base.matrix_setups += cur.matrix_setups;
   base.nonlinear_iterations += cur.nonlinear_iterations;
   base.nonlinear_convergence_failures += cur.nonlinear_convergence_failures;
@@ -372,7 +369,6 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   window_steps = window_error_test_failures = 0;
   step_limiting_counted = 0;
   newton_rate_factor = 20.0;
-  evaluations = 0;
   must_evaluate = true;
   ++reinits;
 }
@@ -475,31 +471,22 @@ int IdaIntegrator::Impl::Evaluate(double t, double cj, const double* yv, const d
                                   SUNMatrix J) {
   ++evaluations;
   const bool save = reuse_steps > 0;
-  int rc = 0;
-  if (!sparse) {  // IDA zeroes J before it calls a direct solver's Jacobian
-    double* Jd = SM_DATA_D(J);
-    if (save) {
-      std::fill(saved_dfdyp.begin(), saved_dfdyp.end(), 0.0);
-      rc = system->JacobianAndDerivativePart(t, cj, yv, ypv, Jd, saved_dfdyp.data());
-      std::copy(Jd, Jd + saved_matrix.size(), saved_matrix.begin());
-    } else {
-      rc = system->Jacobian(t, cj, yv, ypv, Jd);
-    }
-  } else {
-    // The system adds its entries into a zeroed column-major scratch; only the pattern's
-    // entries are gathered into the fixed CSC pattern (GatherPattern), so a Jacobian costs the
-    // entries written and nnz, not N². IDA zeroes the matrix before each call, its index
-    // arrays included (SUNMatZero_Sparse), so the pattern's indices are written again.
-    double* D = dense_scratch.data();
-    ++sparse_jacobians;
-    if (save) {
-      rc = system->JacobianAndDerivativePart(t, cj, yv, ypv, D, dfdyp_scratch.data());
-      GatherPattern(dfdyp_scratch.data(), saved_dfdyp.data(), nullptr, nullptr);
-    } else {
-      rc = system->Jacobian(t, cj, yv, ypv, D);
-    }
-    GatherPattern(D, SM_DATA_S(J), SM_INDEXPTRS_S(J), SM_INDEXVALS_S(J));
-    if (save) std::copy(SM_DATA_S(J), SM_DATA_S(J) + saved_matrix.size(), saved_matrix.begin());
+  // The system adds its entries into zeroed arrays. IDA zeroes a dense J before this call. KLU:
+  // a zeroed column-major scratch, of which only the pattern's entries are gathered into the
+  // fixed CSC pattern (GatherPattern), so a Jacobian costs the entries written and nnz, not N²;
+  // IDA zeroes the CSC index arrays too (SUNMatZero_Sparse), so they are written again.
+  double* jac = sparse ? dense_scratch.data() : SM_DATA_D(J);
+  double* dfdyp = !save ? nullptr : sparse ? dfdyp_scratch.data() : saved_dfdyp.data();
+  if (save && !sparse) std::fill(saved_dfdyp.begin(), saved_dfdyp.end(), 0.0);
+  const int rc = save ? system->JacobianAndDerivativePart(t, cj, yv, ypv, jac, dfdyp)
+                      : system->Jacobian(t, cj, yv, ypv, jac);
+  if (sparse) {
+    if (save) GatherPattern(dfdyp, saved_dfdyp.data(), nullptr, nullptr);
+    GatherPattern(jac, SM_DATA_S(J), SM_INDEXPTRS_S(J), SM_INDEXVALS_S(J));
+  }
+  if (save) {
+    const double* values = sparse ? SM_DATA_S(J) : SM_DATA_D(J);
+    std::copy(values, values + saved_matrix.size(), saved_matrix.begin());
   }
   must_evaluate = save && rc != 0;
   if (save && rc == 0) {
@@ -538,7 +525,7 @@ void IdaIntegrator::Impl::GatherPattern(double* D, double* values, sunindextype*
   }
   // An entry outside the pattern is never gathered, so until it is found it only costs
   // Newton iterations, never the solution, which the residual decides.
-  if ((sparse_jacobians - 1) % kPatternCheckInterval != 0) return;
+  if ((evaluations - 1) % kPatternCheckInterval != 0) return;
   const size_t total = static_cast<size_t>(n) * n;
   for (size_t i = 0; i < total; ++i) {
     if (D[i] == 0.0) continue;
@@ -886,7 +873,7 @@ IntegratorStats IdaIntegrator::stats() const {
   IntegratorStats s = I.Current();
   s.steps += I.base.steps;
   s.residual_evaluations += I.base.residual_evaluations;
-  s.jacobian_evaluations += I.base.jacobian_evaluations;
+  s.jacobian_evaluations = I.evaluations;
   s.matrix_setups += I.base.matrix_setups;
   s.nonlinear_iterations += I.base.nonlinear_iterations;
   s.nonlinear_convergence_failures += I.base.nonlinear_convergence_failures;
