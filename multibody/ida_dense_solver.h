@@ -18,7 +18,10 @@ namespace flexrod::multibody {
 /// with entries from 1 to 4e10, choose pivots by unit, not by size (componentwise backward
 /// error 1e-8 instead of 5e-16 on the exudyn-match clearance Jacobians). A later column whose
 /// entry in the pivot row is zero is not updated, so a sparse iteration matrix costs less than
-/// n³/3. Returns 0, or k + 1 if row k is zero or column k has no non-zero pivot.
+/// n³/3. The factors are kept as DenseLuSolve takes them: L's 4 × 4 diagonal blocks from
+/// column 0 on and U's from column n − 1 back hold their inverses, U's remaining first n mod 4
+/// diagonal entries their reciprocals. Returns 0, or k + 1 if row k is zero or column k has no
+/// non-zero pivot.
 int DenseLuFactor(double* a, int n, int* pivot, double* row_scale);
 /// Solves A x = b in place (b in, x out) with the factors of DenseLuFactor.
 void DenseLuSolve(const double* lu, int n, const int* pivot, const double* row_scale, double* b);

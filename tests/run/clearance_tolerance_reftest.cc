@@ -10,6 +10,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -42,8 +43,17 @@ TEST(ClearanceTolerance, TheDefaultToleranceResolvesTheBouncingSequenceOfTheConv
   // Every logged onset approaches the wall: no tolerance-level crossings of the event band.
   for (const study::Impact& im : run)
     EXPECT_GT(im.approach_velocity, 0.0) << "impact at t = " << im.time << " s";
-  // The sequence ends within a couple of micro-touches of the converged one (observed 28 vs 27).
-  EXPECT_LE(std::abs(static_cast<long>(run.size()) - static_cast<long>(ref.size())), 2);
+  // Once the pin rides on the wall, both runs log a few touches slower than 0.2 mm/s: lift-offs
+  // at the tolerance's level, whose number moves with round-off (the default run: 1 to 5 of
+  // them over rel_tol 0.95e-6 to 1.05e-6, 28 to 31 impacts in all; the converged run: 1, 27 in
+  // all). Every impact above 0.2 mm/s is in both, and the touches stay a few, not a chatter.
+  constexpr double kTouch = 2e-4;  // [m/s]
+  auto count_at_least = [](const std::vector<study::Impact>& log, double v) {
+    return std::count_if(log.begin(), log.end(),
+                         [v](const study::Impact& im) { return im.approach_velocity >= v; });
+  };
+  EXPECT_EQ(count_at_least(run, kTouch), count_at_least(ref, kTouch));
+  EXPECT_LE(static_cast<long>(run.size()) - count_at_least(run, kTouch), 6);
   // The impacts faster than 1 cm/s match one to one (observed: 18 each; onset within 2.4e-5 s,
   // approach velocity, peak force, peak penetration within 0.4 %, dissipated energy 0.5 %).
   auto fast = [](const std::vector<study::Impact>& log) {
