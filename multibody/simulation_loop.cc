@@ -21,6 +21,7 @@ namespace flexrod::multibody {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr long kDeadlineCheckSteps = 32;  // steps between reads of the wall clock
 
 // Generic IDA advice plus what it usually means in a mechanism.
 std::string HintForFlag(int flag) {
@@ -224,11 +225,15 @@ class SimulationLoop {
   /// Offers the samples of the grid t_k = grid_start + k / rate up to t_ret: from the step's
   /// interpolating polynomial, or (before the first step) the initial state.
   void EmitUpTo(double t_ret, bool from_dense) {
-    if (!grid_active_) return;
+    // The next grid sample's time, if it is due by t_ret.
+    const auto due = [&](double* ts) {
+      *ts = grid_start_ + static_cast<double>(k_next_) * dt_;
+      return *ts <= t_ret + t_fuzz_ && *ts <= t_end_ + t_fuzz_;
+    };
+    double ts = 0.0;
+    if (!grid_active_ || !due(&ts)) return;  // a step without a sample reads no clock
     const ScopeTimer timer(&output_seconds_);
-    for (;;) {
-      const double ts = grid_start_ + static_cast<double>(k_next_) * dt_;
-      if (ts > t_ret + t_fuzz_ || ts > t_end_ + t_fuzz_) break;
+    for (; due(&ts); ++k_next_) {
       if (from_dense) {
         CacheStepPolynomial();  // once per step, not per sample
         const double te = std::min(ts, t_ret);
@@ -239,7 +244,6 @@ class SimulationLoop {
       } else {
         Emit(ts, state_.y.data(), state_.yp.data());
       }
-      ++k_next_;
     }
   }
 
@@ -380,7 +384,11 @@ class SimulationLoop {
                   t_now_);
       return true;
     }
-    if (options_.deadline && Clock::now() > *options_.deadline) {
+    // The clock is read on the first step and every kDeadlineCheckSteps after it (with the
+    // output timer's two reads in every step, the clock was 1 % of the exudyn-match clearance
+    // case, 423 000 steps).
+    if (options_.deadline && steps % kDeadlineCheckSteps == 1 &&
+        Clock::now() > *options_.deadline) {
       FillFailure(SimulationOutcome::kWallTimeLimit, "wall-clock budget exhausted",
                   "increase the wall-clock budget (sim.max_wall_time), loosen tolerances or "
                   "shorten the simulated time",
