@@ -28,6 +28,12 @@ bool IsStandardChannel(const std::string& name) {
          name.rfind("strain_", 0) == 0;
 }
 
+bool Selects(const OutputSelection& sel, const std::string& name) {
+  if (sel.standard) return IsStandardChannel(name);
+  return sel.channels.empty() ||
+         std::find(sel.channels.begin(), sel.channels.end(), name) != sel.channels.end();
+}
+
 OutputSelection ReadOutputSelection(const Config& cfg, double sample_rate,
                                     const std::vector<std::string>* available) {
   OutputSelection sel;

@@ -27,6 +27,9 @@ struct OutputSelection {
 /// penetration, modal coordinates, energies, constraint violation: the summary has those).
 bool IsStandardChannel(const std::string& name);
 
+/// Whether the selection writes the channel `name` (standard set, list, or all).
+bool Selects(const OutputSelection& sel, const std::string& name);
+
 /// Reads and checks the output.* keys for a record at `sample_rate` [Hz]. `available` (if
 /// given) are the run's channel names, checked against the selection. Throws InputError
 /// naming the key, the value and the rule.

@@ -43,11 +43,7 @@ double WriteRun(const RunFileRequest& r, const Config& cfg, const RunResult& run
 study::TimeSeries SelectChannels(const study::TimeSeries& ts, const OutputSelection& sel) {
   study::TimeSeries out(ts.sample_rate() / static_cast<double>(sel.stride), ts.start_time());
   for (const study::Channel& c : ts.channels()) {
-    const bool keep =
-        sel.standard ? IsStandardChannel(c.name)
-                     : sel.channels.empty() || std::find(sel.channels.begin(), sel.channels.end(),
-                                                         c.name) != sel.channels.end();
-    if (!keep) continue;
+    if (!Selects(sel, c.name)) continue;
     std::vector<double> v;
     v.reserve(c.values.size() / sel.stride + 1);
     for (std::size_t i = 0; i < c.values.size(); i += sel.stride) v.push_back(c.values[i]);

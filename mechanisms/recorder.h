@@ -48,7 +48,14 @@ class Recorder {
     }
     values_.resize(names_.size());
     stats_.resize(names_.size());
+    kept_.resize(names_.size(), true);
     block_.resize(kBlockRows * names_.size());
+  }
+  /// Keeps the samples of the channels `keep` accepts only; the others still get their
+  /// statistics (stats()) but no record (Finish leaves them out). Before the first sample.
+  void KeepOnly(const std::function<bool(const std::string&)>& keep) {
+    FLEXROD_ASSERT(size_ == 0);
+    for (size_t c = 0; c < names_.size(); ++c) kept_[c] = keep(names_[c]);
   }
   void Record(const multibody::SampleView& s) {
     if (size_ == 0) first_t_ = s.t();
@@ -58,18 +65,22 @@ class Recorder {
     if (++filled_ == kBlockRows) Flush();
   }
   size_t size() const { return size_; }
+  /// Every channel, kept or not (and stats() in this order).
   const std::vector<std::string>& names() const { return names_; }
-  /// Per channel, in the order of names() (and of the TimeSeries Finish builds); complete
-  /// once Finish has been called.
+  const std::vector<std::string>& units() const { return units_; }
+  /// Per channel, kept or not, in the order of names(); complete once Finish has been called.
   const std::vector<ChannelStats>& stats() const { return stats_; }
   void Reserve(size_t n) {
-    for (auto& v : values_) v.reserve(n);
+    for (size_t c = 0; c < values_.size(); ++c) {
+      if (kept_[c]) values_[c].reserve(n);
+    }
   }
   study::TimeSeries Finish(double rate) {
     Flush();
     study::TimeSeries ts(rate, size_ ? first_t_ : 0.0);
-    for (size_t i = 0; i < names_.size(); ++i)
-      ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
+    for (size_t i = 0; i < names_.size(); ++i) {
+      if (kept_[i]) ts.AddChannel(names_[i], units_[i], std::move(values_[i]));
+    }
     return ts;
   }
 
@@ -83,20 +94,21 @@ class Recorder {
   void Flush() {
     const size_t nc = names_.size(), rows = filled_;
     for (size_t c = 0; c < nc; ++c) {
-      std::vector<double>& col = values_[c];
-      const size_t old = col.size();
-      col.resize(old + rows);
-      double* __restrict dst = col.data() + old;
       const double* __restrict src = block_.data() + c;
       ChannelStats st = stats_[c];
       for (size_t r = 0; r < rows; ++r) {
         const double v = src[r * nc];
-        dst[r] = v;
         st.min = std::min(st.min, v);
         st.max = std::max(st.max, v);
         st.sum_squares += v * v;
       }
       stats_[c] = st;
+      if (!kept_[c]) continue;
+      std::vector<double>& col = values_[c];
+      const size_t old = col.size();
+      col.resize(old + rows);
+      double* __restrict dst = col.data() + old;
+      for (size_t r = 0; r < rows; ++r) dst[r] = src[r * nc];
     }
     filled_ = 0;
   }
@@ -104,6 +116,7 @@ class Recorder {
   std::vector<Group> groups_;
   std::vector<std::vector<double>> values_;
   std::vector<ChannelStats> stats_;
+  std::vector<bool> kept_;     // per channel: its samples are recorded (KeepOnly)
   std::vector<double> block_;  // kBlockRows samples of every channel, row by row
   size_t filled_{0};           // rows of block_ not yet in values_
   size_t size_{0};

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <limits>
 #include <numbers>
@@ -73,6 +74,11 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
   return j;
 }
 
+/// The channels whose samples the run's own summary reads (the per-revolution statistics and
+/// the load amplification, the impacts' revolutions, the mean crank speed): a run keeps them
+/// whatever RunOutputOptions::keep_channel says.
+constexpr const char* kSummaryChannels[] = {"crank_angle", "slider_acceleration", "bearing_force"};
+
 /// A channel's peaks, RMS and per-revolution peak statistics as the summary writes them.
 nlohmann::json SignalSummaryJson(const study::SignalSummary& a, const std::string& unit) {
   return {{"unit", unit},
@@ -90,13 +96,12 @@ nlohmann::json SignalSummaryJson(const study::SignalSummary& a, const std::strin
 
 /// The rod's part of the summary (flexible and exact rods): peak gauge stress, safety factor,
 /// frequencies; `warning`: the mesh-precision warning, or empty.
-nlohmann::json RodSummaryJson(const study::TimeSeries& ts, const std::vector<ChannelStats>& stats,
-                              const MechanismModel& mm, std::string* warning) {
+nlohmann::json RodSummaryJson(const Recorder& rec, const MechanismModel& mm, std::string* warning) {
   nlohmann::json rod;
   double peak_stress = 0.0;
-  for (size_t c = 0; c < stats.size(); ++c) {
-    if (ts.channels()[c].name.rfind("stress_", 0) == 0)
-      peak_stress = std::max(peak_stress, stats[c].peak_abs());
+  for (size_t c = 0; c < rec.names().size(); ++c) {
+    if (rec.names()[c].rfind("stress_", 0) == 0)
+      peak_stress = std::max(peak_stress, rec.stats()[c].peak_abs());
   }
   const double yield = (mm.rod ? mm.rod->rod : mm.exact->rod).material.yield_strength;
   rod = {{"model", mm.rod ? "reduced" : "exact"},
@@ -120,21 +125,25 @@ nlohmann::json RodSummaryJson(const study::TimeSeries& ts, const std::vector<Cha
   return rod;
 }
 
-/// The run's summary from its record, the record's running channel statistics (Recorder::stats,
-/// in channel order) and its slider acceleration statistics (slider-cranks).
-nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& stats,
-                         const Config& cfg, const MechanismModel& mm) {
+/// The run's summary from its record, the recorder's running statistics of every channel (kept
+/// in the record or not: Recorder::KeepOnly) and its slider acceleration statistics
+/// (slider-cranks).
+nlohmann::json Summarise(const RunResult& run, const Recorder& rec, const Config& cfg,
+                         const MechanismModel& mm) {
   const study::TimeSeries& ts = run.channels;
   nlohmann::json s;
   if (ts.num_samples() == 0) return s;
-  FLEXROD_ASSERT(stats.size() == ts.num_channels());
+  const std::vector<std::string>& names = rec.names();
+  const std::vector<ChannelStats>& stats = rec.stats();
+  FLEXROD_ASSERT(stats.size() == names.size() && rec.size() == ts.num_samples());
   auto stat = [&](std::string_view name) -> const ChannelStats& {
-    return stats[static_cast<size_t>(&ts.channel(name) - ts.channels().data())];
+    const auto it = std::find(names.begin(), names.end(), name);
+    FLEXROD_ASSERT(it != names.end());
+    return stats[static_cast<size_t>(it - names.begin())];
   };
   for (size_t c = 0; c < stats.size(); ++c) {
-    const study::Channel& ch = ts.channels()[c];
-    s["channels"][ch.name] = {
-        {"unit", ch.unit},
+    s["channels"][names[c]] = {
+        {"unit", rec.units()[c]},
         {"peak_abs", stats[c].peak_abs()},
         {"rms", std::sqrt(stats[c].sum_squares / static_cast<double>(ts.num_samples()))}};
   }
@@ -154,7 +163,7 @@ nlohmann::json Summarise(const RunResult& run, const std::vector<ChannelStats>& 
   }
   if (mm.rod || mm.exact) {
     std::string warning;
-    s["rod"] = RodSummaryJson(ts, stats, mm, &warning);
+    s["rod"] = RodSummaryJson(rec, mm, &warning);
     if (!warning.empty()) s["warnings"].push_back(warning);
   }
   if (mm.clearance.index >= 0) {
@@ -316,7 +325,7 @@ void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel
     out.bearing_force =
         study::CalcSignalSummary(out.channels.values("bearing_force"), all, revolutions);
   }
-  out.summary = Summarise(out, rec.stats(), cfg, mm);
+  out.summary = Summarise(out, rec, cfg, mm);
   out.summary["gauges"] = gauges;
   if (!steady.is_null()) {
     out.summary["steady_start"] = steady;
@@ -363,11 +372,12 @@ void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel
 
 /// A run of `mm`, built from `cfg` (BuildMechanism(cfg, rod, ideal_joint)), with `sim` from
 /// CheckRunInput(cfg, the run's mechanism); `wall0` is when its building began
-/// (sim.max_wall_time counts from there).
+/// (sim.max_wall_time counts from there); `keep_channel`: RunOutputOptions::keep_channel.
 RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bool ideal_joint,
                  std::chrono::steady_clock::time_point wall0, MechanismModel* model_out,
                  const VtkOptions* vtk_options = nullptr, bool profile = false,
-                 const std::atomic<bool>* stop = nullptr) {
+                 const std::atomic<bool>* stop = nullptr,
+                 const std::function<bool(const std::string&)>& keep_channel = nullptr) {
   const multibody::Mechanism& m = mm.mechanism;
   multibody::InitialConditionSpec ic;
   multibody::SimulationOptions opt = RunOptions(sim, mm, wall0, profile, stop, &ic);
@@ -379,6 +389,13 @@ RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bo
   DefineChannels(cfg, mm, &rec, &gauges, impacts ? &*impacts : nullptr);
   // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
   if (!ideal_joint) (void)ReadOutputSelection(cfg, opt.sample_rate, &rec.names());
+  if (keep_channel) {
+    rec.KeepOnly([&](const std::string& name) {
+      return std::find(std::begin(kSummaryChannels), std::end(kSummaryChannels), name) !=
+                 std::end(kSummaryChannels) ||
+             keep_channel(name);
+    });
+  }
   multibody::RunData data(m);
   const double rate = opt.sample_rate;
   const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
@@ -458,18 +475,22 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   // runs beside the run, on the run's rod.
   const bool needs_twin = built.clearance.index >= 0 && built.recipe->turns_a_crank();
   const SimOptions sim = CheckRunInput(cfg, built);  // a bad input starts no run and no twin
-  auto run_twin = [cfg, sim, stop = outputs.stop](std::shared_ptr<const fem::ReducedRod> twin_rod) {
+  // A twin shared through the cache keeps every channel: other runs read it.
+  auto run_twin = [cfg, sim, stop = outputs.stop,
+                   keep = outputs.twins ? nullptr : outputs.keep_channel](
+                      std::shared_ptr<const fem::ReducedRod> twin_rod) {
     const auto twin_wall0 = std::chrono::steady_clock::now();
     return std::make_shared<const RunResult>(
         RunOne(cfg, sim, BuildMechanism(cfg, std::move(twin_rod), true), true, twin_wall0, nullptr,
-               nullptr, false, stop));
+               nullptr, false, stop, keep));
   };
   std::future<std::shared_ptr<const RunResult>> twin_beside;
   if (needs_twin && outputs.twins == nullptr && std::thread::hardware_concurrency() > 1)
     twin_beside = std::async(std::launch::async, run_twin, built.rod);
   MechanismModel mm;
   RunResult out = RunOne(cfg, sim, std::move(built), ideal_joint, wall0, &mm,
-                         vtk_options ? &*vtk_options : nullptr, outputs.profile, outputs.stop);
+                         vtk_options ? &*vtk_options : nullptr, outputs.profile, outputs.stop,
+                         outputs.keep_channel);
   if (mm.clearance.index < 0 || out.channels.num_samples() < 3) return out;
   bool computed = false;
   auto compute_twin = [&] {
@@ -593,6 +614,7 @@ nlohmann::json CompareHeadlineFigures(const nlohmann::json& summary,
 void AddAccuracyCheck(const Config& check_cfg, RunResult* run, const std::atomic<bool>* stop) {
   RunOutputOptions outputs;
   outputs.stop = stop;
+  outputs.keep_channel = [](const std::string&) { return false; };  // its summary is compared
   const RunResult reference = RunSimulation(check_cfg, nullptr, false, outputs);
   nlohmann::json check = CompareHeadlineFigures(run->summary, reference.summary);
   check["rel_tol"] = check_cfg.Quantity("sim.rel_tol");

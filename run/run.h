@@ -93,6 +93,12 @@ struct RunOutputOptions {
   /// Polled by the integrator (multibody::SimulationOptions::stop), also in the ideal-joint
   /// twin: once true, the run stops with outcome kInterrupted. nullptr: never stops.
   const std::atomic<bool>* stop{nullptr};
+  /// The channels whose samples RunResult::channels keeps (and its twin's, unless the twin is
+  /// shared through `twins`), beside those the run's own summary reads (crank angle, slider
+  /// acceleration, bearing force). nullptr: every channel. Every channel's peak and RMS stay in
+  /// summary["channels"] either way, and the summary does not change. `flexrod run` keeps what
+  /// its files get (output.channels) and run.h5's analysis reads (the Poincaré channels).
+  std::function<bool(const std::string&)> keep_channel;
 };
 
 /// Runs the input. `rod` (optional) is a reduced rod to reuse; `ideal_joint` forces an ideal

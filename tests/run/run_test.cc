@@ -467,6 +467,44 @@ TEST(RunSummary, ItsStatisticsAreThoseOfTheRecord) {
   for (size_t i = 0; i < f.size(); ++i) ASSERT_EQ(f[i], std::hypot(fn[i], ft[i])) << i;
 }
 
+/// `j` without the wall-clock figures (which differ between any two runs), recursively.
+nlohmann::json WithoutWallTimes(nlohmann::json j) {
+  if (!j.is_object()) return j;
+  for (const char* key : {"wall_time [s]", "output_time [s]"}) j.erase(key);
+  for (auto& [key, value] : j.items()) value = WithoutWallTimes(value);
+  return j;
+}
+
+TEST(RunSummary, ARunKeepingFewChannelsSummarisesAndRecordsThemAsOneKeepingAll) {
+  // RunOutputOptions::keep_channel: the samples of the other channels are not kept, but every
+  // channel still enters the summary's statistics, and the run itself is the same. Rigid rig,
+  // 1 mm clearance (so an ideal-joint twin runs too), 177 rpm, 0.3 s at 20 kHz.
+  const Config cfg = LoadRunInput("rigid-rig", {"drive.speed=177 rpm", "sim.settle=0 s",
+                                                "sim.capture=0.3 s", "sim.sample_rate=20 kHz"});
+  const RunResult all = RunSimulation(cfg);
+  RunOutputOptions keep_one;
+  keep_one.keep_channel = [](const std::string& name) { return name == "slider_position"; };
+  const RunResult few = RunSimulation(cfg, nullptr, false, keep_one);
+  ASSERT_TRUE(all.ok() && few.ok()) << few.status.Summary();
+  EXPECT_EQ(WithoutWallTimes(few.summary).dump(), WithoutWallTimes(all.summary).dump());
+  EXPECT_GT(all.summary["channels"].size(), 20u);
+  ASSERT_TRUE(all.ideal && few.ideal);
+  for (const auto& [kept, full] :
+       {std::pair{&few.channels, &all.channels}, std::pair{few.ideal.get(), all.ideal.get()}}) {
+    // The kept one and those the summary reads sample by sample; each sample as in a full run.
+    std::vector<std::string> names;
+    for (const study::Channel& c : kept->channels()) names.push_back(c.name);
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"bearing_force", "crank_angle",
+                                               "slider_acceleration", "slider_position"}));
+    EXPECT_EQ(kept->num_samples(), full->num_samples());
+    for (const std::string& n : names) {
+      const auto a = kept->values(n), b = full->values(n);
+      EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << n;
+    }
+  }
+}
+
 // Integrator robustness on contact events (regressions; each failed before its fix).
 
 TEST(RunRobustness, LooseToleranceRunsPastContactSeparations) {
