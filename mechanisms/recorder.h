@@ -52,10 +52,14 @@ class Recorder {
     block_.resize(kBlockRows * names_.size());
   }
   /// Keeps the samples of the channels `keep` accepts only; the others still get their
-  /// statistics (stats()) but no record (Finish leaves them out). Before the first sample.
+  /// statistics (stats()) but no record (Finish leaves them out). The first channel is kept if
+  /// `keep` accepts none: a TimeSeries counts its samples by its channels. Before the first
+  /// sample.
   void KeepOnly(const std::function<bool(const std::string&)>& keep) {
     FLEXROD_ASSERT(size_ == 0);
     for (size_t c = 0; c < names_.size(); ++c) kept_[c] = keep(names_[c]);
+    if (!kept_.empty() && std::find(kept_.begin(), kept_.end(), true) == kept_.end())
+      kept_[0] = true;
   }
   void Record(const multibody::SampleView& s) {
     if (size_ == 0) first_t_ = s.t();

@@ -505,6 +505,22 @@ TEST(RunSummary, ARunKeepingFewChannelsSummarisesAndRecordsThemAsOneKeepingAll) 
   }
 }
 
+TEST(RunSummary, ARunKeepingNoChannelStillCountsItsSamplesAndSummarisesThemAll) {
+  // The pendulum has none of the channels a run always keeps (crank angle, slider acceleration,
+  // bearing force): a record keeping nothing else keeps one channel, so the sample count and
+  // the summary stay (flexrod run --check's reference run keeps nothing).
+  const Config cfg = LoadRunInput("flexible-pendulum", {"sim.capture=0.02 s"});
+  const RunResult all = RunSimulation(cfg);
+  RunOutputOptions keep_none;
+  keep_none.keep_channel = [](const std::string&) { return false; };
+  const RunResult none = RunSimulation(cfg, nullptr, false, keep_none);
+  ASSERT_TRUE(all.ok() && none.ok()) << none.status.Summary();
+  EXPECT_EQ(none.channels.num_channels(), 1u);
+  EXPECT_EQ(none.channels.num_samples(), all.channels.num_samples());
+  EXPECT_GT(all.summary["channels"].size(), 10u);
+  EXPECT_EQ(WithoutWallTimes(none.summary).dump(), WithoutWallTimes(all.summary).dump());
+}
+
 // Integrator robustness on contact events (regressions; each failed before its fix).
 
 TEST(RunRobustness, LooseToleranceRunsPastContactSeparations) {
