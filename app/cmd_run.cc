@@ -14,12 +14,10 @@
 #include "app/plotting.h"
 #include "common/error.h"
 #include "common/files.h"
-#include "input/output_selection.h"
 #include "input/presets.h"
 #include "io/run_vtk.h"
 #include "io/run_writer.h"
 #include "run/run.h"
-#include "sweep/sweep_matrix.h"
 
 namespace flexrod::app {
 namespace {
@@ -156,17 +154,7 @@ int Run(const RunOptions& opt) {
   RunOutputOptions outputs;
   outputs.record_vtk = !opt.vtk_dir.empty();
   outputs.profile = opt.profile;
-  // The run keeps the samples of what its files get and of what run.h5's analysis reads (the
-  // Poincaré channels, io/run_h5.cc); the rest only feed the summary's statistics. The output.*
-  // keys are read when the run asks, after it has checked sim.* (a bad sim.sample_rate is
-  // reported as such, not through output.rate).
-  outputs.keep_channel =
-      [&cfg, sel = std::optional<OutputSelection>(),
-       analysis = study::StoreOptions().poincare_channels](const std::string& name) mutable {
-        if (!sel) sel = ReadOutputSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
-        return Selects(*sel, name) ||
-               std::find(analysis.begin(), analysis.end(), name) != analysis.end();
-      };
+  outputs.keep_channel = ChannelsTheFilesRead(cfg);  // the rest only feed the summary
   std::optional<RunPlotter> plotter;
   if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
   RunResult run = RunSimulation(cfg, nullptr, false, outputs);

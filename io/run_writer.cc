@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "common/files.h"
+#include "sweep/sweep_matrix.h"
 
 namespace flexrod {
 
@@ -38,6 +40,15 @@ double WriteRun(const RunFileRequest& r, const Config& cfg, const RunResult& run
     if (w->Selected(r, sel)) bytes += w->Write(r, c);
   }
   return bytes;
+}
+
+std::function<bool(const std::string&)> ChannelsTheFilesRead(const Config& cfg) {
+  return [&cfg, sel = std::optional<OutputSelection>(),
+          analysis = study::StoreOptions().poincare_channels](const std::string& name) mutable {
+    if (!sel) sel = ReadOutputSelection(cfg, cfg.Quantity("sim.sample_rate"), nullptr);
+    return Selects(*sel, name) ||
+           std::find(analysis.begin(), analysis.end(), name) != analysis.end();
+  };
 }
 
 study::TimeSeries SelectChannels(const study::TimeSeries& ts, const OutputSelection& sel) {

@@ -18,6 +18,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -68,6 +69,12 @@ const std::vector<std::unique_ptr<RunWriter>>& RunWriters();
 /// Writes the run's files: removes every format's stale files from r.dir (if given), then each
 /// selected writer writes. Returns the bytes written [B].
 double WriteRun(const RunFileRequest& r, const Config& cfg, const RunResult& run);
+
+/// The channels WriteRun reads from RunResult::channels for `cfg` (output.*, read on the first
+/// call, once sim.* has been checked): the selected ones and the Poincaré channels of run.h5's
+/// analysis (io/run_h5.cc). A run that only writes its files keeps these
+/// (RunOutputOptions::keep_channel).
+std::function<bool(const std::string&)> ChannelsTheFilesRead(const Config& cfg);
 
 /// The selected channels (those the record has) at every stride-th sample.
 study::TimeSeries SelectChannels(const study::TimeSeries& ts, const OutputSelection& sel);

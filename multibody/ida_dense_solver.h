@@ -30,9 +30,10 @@ void DenseLuSolve(const double* lu, int n, const int* pivot, const double* row_s
 /// set-up factors the matrix in place (DenseLuFactor; a zero pivot is SUNLS_LUFACT_FAIL,
 /// recoverable), solve applies the factors. It also gives A a zeroing operation that clears
 /// its data in one pass (IDA zeroes the matrix before every Jacobian; SUNDIALS' own indexes
-/// each entry: 16 700 instructions at n = 41, callgrind). In place of SUNLinSol_Dense,
-/// whose row-by-row substitutions cost about fifteen times the instructions at the
-/// mechanism's sizes. NumericalError if A is not a square dense matrix or SUNDIALS cannot
+/// each entry: 16 700 instructions at n = 41, callgrind; IdaIntegrator, which zeroes the
+/// matrix itself only when it evaluates a Jacobian, replaces it by a no-op). In place of
+/// SUNLinSol_Dense, whose row-by-row substitutions cost about fifteen times the instructions at
+/// the mechanism's sizes. NumericalError if A is not a square dense matrix or SUNDIALS cannot
 /// allocate the solver.
 SUNLinearSolver MakeDenseLuSolver(SUNMatrix A, SUNContext ctx);
 

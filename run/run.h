@@ -97,7 +97,7 @@ struct RunOutputOptions {
   /// shared through `twins`), beside those the run's own summary reads (crank angle, slider
   /// acceleration, bearing force). nullptr: every channel. Every channel's peak and RMS stay in
   /// summary["channels"] either way, and the summary does not change. `flexrod run` keeps what
-  /// its files get (output.channels) and run.h5's analysis reads (the Poincaré channels).
+  /// its files read (io/run_writer.h ChannelsTheFilesRead).
   std::function<bool(const std::string&)> keep_channel;
 };
 
