@@ -50,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "benchmarks/radau_iia.h"
 #include "input/config.h"
 #include "input/presets.h"
 #include "run/run.h"
@@ -191,43 +192,10 @@ IdaResult RunIda(const Oscillator& o, int max_order, double rel_tol, double abs_
   return r;
 }
 
-/// The three-stage Radau IIA tableau (Hairer & Wanner II, §IV.5): a (the weights b are its last
-/// row) and the nodes c.
-struct RadauTableau {
-  Eigen::Matrix3d a;
-  Eigen::Vector3d c;
-  RadauTableau() {
-    const double s6 = std::sqrt(6.0);
-    c << (4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0;
-    a << (88.0 - 7.0 * s6) / 360.0, (296.0 - 169.0 * s6) / 1800.0, (-2.0 + 3.0 * s6) / 225.0,
-        (296.0 + 169.0 * s6) / 1800.0, (88.0 + 7.0 * s6) / 360.0, (-2.0 - 3.0 * s6) / 225.0,
-        (16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0;
-  }
-  /// Largest defect of the conditions that make it Radau IIA of order 5: Σⱼ aᵢⱼ = cᵢ, the
-  /// weights b = last row integrate ξ^(q−1) exactly for q = 1..5 (Σ bᵢ cᵢ^(q−1) = 1/q), and
-  /// the stages are of order 3 (Σⱼ aᵢⱼ cⱼ^(q−1) = cᵢ^q / q, q = 1..3).
-  double OrderDefect() const {
-    double d = 0.0;
-    for (int q = 1; q <= 5; ++q) {
-      double sum = 0.0;
-      for (int i = 0; i < 3; ++i) sum += a(2, i) * std::pow(c(i), q - 1);
-      d = std::max(d, std::abs(sum - 1.0 / q));
-    }
-    for (int q = 1; q <= 3; ++q) {
-      for (int i = 0; i < 3; ++i) {
-        double sum = 0.0;
-        for (int j = 0; j < 3; ++j) sum += a(i, j) * std::pow(c(j), q - 1);
-        d = std::max(d, std::abs(sum - std::pow(c(i), q) / q));
-      }
-    }
-    return d;
-  }
-};
-
 /// Three-stage Radau IIA at a fixed step h on y' = J y + g(t): the 6×6 stage system, factored
 /// once. Returns the error record over the window (step points).
 ErrorRecord RunRadau(const Oscillator& o, double h) {
-  const RadauTableau tableau;
+  const flexrod::bench::RadauTableau tableau;
   const Eigen::Matrix3d& a = tableau.a;
   const Eigen::Vector3d& c = tableau.c;
   Eigen::Matrix2d J;
@@ -447,7 +415,7 @@ int main(int argc, char** argv) {
         "its accuracy: 10^(2/6) = 2.15 times)");
   claim(rig_beta[1] > 0 && rig_beta[0] > 2.5 * rig_beta[1],
         "flexrod's rig: Rayleigh beta x 10 takes at least 2.5 times fewer steps");
-  claim(RadauTableau().OrderDefect() < 1e-14,
+  claim(flexrod::bench::RadauTableau().OrderDefect() < 1e-14,
         "the Radau IIA tableau meets its order conditions (quadrature order 5, stage order 3)");
   claim(radau_step == 4e-3, "Radau IIA matches IDA's error at a fixed 4 ms step");
   return failed == 0 ? 0 : 1;

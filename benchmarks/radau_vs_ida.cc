@@ -1,0 +1,258 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// IDA's BDF against a Radau IIA formula (benchmarks/radau_iia.h) on flexrod's own DAE: the
+// slider-crank of benchmarks/exudyn-match.toml, 3 s from its rigid start (issue 24, "Speed": is
+// an A-stable higher-order integrator the way to the targets?). Both see the same MechanismDae
+// (prescribed crank eliminated, the run's tolerance scales) and start from the same consistent
+// state; neither samples.
+//
+// - Ideal joint: IDA at rel_tol 1e-10 / abs_tol 1e-12 is the reference, IDA at the defaults
+//   (1e-6 / 1e-10) and Radau IIA at rel_tol 1e-4 to 1e-7 (abs_tol in proportion) are measured
+//   against it: the slider acceleration (the slider velocity's rate) at 30 times 0.1 s apart,
+//   largest difference over its largest value.
+// - Clearance joint (Hunt–Crossley contact, events): the same three, compared on the times of
+//   the first 40 contact onsets (the motion is chaotic later).
+// Printed per run: steps, rejected steps, residual evaluations, Newton iterations, Jacobians,
+// factorisations (Radau: one real and one complex), events, wall time (IDA's include its
+// compiled dense LU; Radau's Eigen's, so compare counts, not walls) and the error measure.
+// Usage: bench_radau_vs_ida [ideal|clearance] (default both). Takes about 20 s.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "benchmarks/radau_iia.h"
+#include "input/config.h"
+#include "mechanisms/mechanism_model.h"
+#include "multibody/clearance_joint.h"
+#include "multibody/dae.h"
+#include "multibody/prescribed.h"
+#include "multibody/simulate.h"
+
+namespace {
+
+using namespace flexrod;
+
+constexpr double kEnd = 3.0;  // [s]
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Config ExudynMatch(bool ideal) {
+  std::ifstream in(FLEXROD_SOURCE_DIR "/benchmarks/exudyn-match.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  Config cfg;
+  cfg.LoadToml(text.str(), "exudyn-match.toml");
+  if (ideal) cfg.SetAssignment("joint.type=ideal");
+  return cfg;
+}
+
+/// The mechanism, its consistent rigid start and the DAE IDA and Radau IIA both integrate.
+struct Problem {
+  MechanismModel mm;
+  multibody::RunData data;
+  multibody::ConsistentState start;
+  multibody::PrescribedMotion prescribed;
+  multibody::MechanismDae dae;
+  Eigen::VectorXd y0, yp0;
+  int slider_velocity{-1};  // the slider's x velocity in the DAE's (reduced) unknowns
+  explicit Problem(const Config& cfg)
+      : mm(BuildMechanism(cfg, nullptr)),
+        data(mm.mechanism),
+        start(Start(cfg)),
+        prescribed(mm.mechanism, true),
+        dae(mm.mechanism, &data, prescribed, std::nullopt,
+            multibody::AutoVelocityTolScale(mm.mechanism)) {
+    y0.resize(dae.size());
+    yp0.resize(dae.size());
+    prescribed.Reduce(start.y.data(), y0.data());
+    prescribed.Reduce(start.yp.data(), yp0.data());
+    const multibody::Mechanism& m = mm.mechanism;
+    const int full = m.num_coordinates() + m.coordinate(mm.slider, multibody::kX);
+    const std::vector<int>& kept = prescribed.kept_unknowns();
+    for (size_t i = 0; i < kept.size(); ++i) {
+      if (kept[i] == full) slider_velocity = static_cast<int>(i);
+    }
+  }
+  multibody::ConsistentState Start(const Config& cfg) {
+    const multibody::Mechanism& m = mm.mechanism;
+    multibody::InitialConditionSpec ic;
+    ic.coordinates = mm.p0;
+    ic.velocities = Vec::Zero(m.num_coordinates());
+    ic.velocities[m.coordinate(mm.crank, multibody::kTheta)] = cfg.Quantity("drive.speed");
+    return multibody::ComputeConsistentState(m, &data, 0.0, ic);
+  }
+};
+
+void PrintRadau(double rel_tol, const bench::RadauStats& s, double wall, const char* error) {
+  std::printf(
+      "  Radau IIA rel_tol %.0e: %ld steps (%ld rejected, %ld Newton failures), %ld residuals, "
+      "%ld Newton iterations, %ld Jacobians, %ld factorisations, %ld events, %.3f s; %s\n",
+      rel_tol, s.steps, s.rejected, s.newton_failures, s.residuals, s.newton_iterations,
+      s.jacobians, s.factorisations, s.events, wall, error);
+}
+
+void PrintIda(double rel_tol, double abs_tol, const multibody::IntegratorStats& s, double wall,
+              const char* error) {
+  std::printf(
+      "  IDA rel_tol %.0e abs_tol %.0e: %ld steps (%ld error-test, %ld convergence failures), "
+      "%ld residuals, %ld Jacobians, %ld factorisations, %ld events, %.3f s; %s\n",
+      rel_tol, abs_tol, s.steps, s.error_test_failures, s.nonlinear_convergence_failures,
+      s.residual_evaluations, s.jacobian_evaluations, s.matrix_setups, s.roots_found, wall, error);
+}
+
+/// `ida(rel_tol, abs_tol, &stats, &wall)` at 1e-10 / 1e-12, printed as the reference.
+template <typename RunIda>
+std::vector<double> IdaReference(RunIda&& ida) {
+  multibody::IntegratorStats stats;
+  double wall = 0.0;
+  std::vector<double> out = ida(1e-10, 1e-12, &stats, &wall);
+  PrintIda(1e-10, 1e-12, stats, wall, "the reference");
+  return out;
+}
+
+/// `ida` at the run's defaults (1e-6 / 1e-10), printed with `error` of its figures.
+template <typename RunIda, typename Error>
+void IdaAtDefaults(RunIda&& ida, Error&& error) {
+  multibody::IntegratorStats stats;
+  double wall = 0.0;
+  const std::vector<double> out = ida(1e-6, 1e-10, &stats, &wall);
+  PrintIda(1e-6, 1e-10, stats, wall, error(out).c_str());
+}
+
+void Ideal() {
+  std::printf(
+      "ideal joint: slider acceleration at 30 times, largest difference to IDA at "
+      "1e-10 / 1e-12 over its largest value\n");
+  const Config cfg = ExudynMatch(true);
+  std::vector<double> times;
+  for (int k = 1; k <= 30; ++k) times.push_back(0.1 * k);
+  auto ida = [&](double rel_tol, double abs_tol, multibody::IntegratorStats* stats, double* wall) {
+    Problem p(cfg);
+    multibody::IntegratorOptions o;
+    o.rel_tol = rel_tol;
+    o.abs_tol = abs_tol;
+    multibody::IdaIntegrator integrator(&p.dae, o);
+    integrator.Initialize(0.0, p.y0.data(), p.yp0.data());
+    std::vector<double> acc;
+    const auto w0 = std::chrono::steady_clock::now();
+    for (double tc : times) {
+      integrator.SetStopTime(tc);
+      while (integrator.Step(tc).outcome != multibody::StepOutcome::kStopTime) {
+      }
+      acc.push_back(integrator.yp()[p.slider_velocity]);
+    }
+    *wall = Seconds(w0);
+    *stats = integrator.stats();
+    return acc;
+  };
+  const std::vector<double> reference = IdaReference(ida);
+  auto error = [&](const std::vector<double>& acc) {
+    double e = 0.0, m = 0.0;
+    for (size_t k = 0; k < acc.size(); ++k) {
+      e = std::max(e, std::abs(acc[k] - reference[k]));
+      m = std::max(m, std::abs(reference[k]));
+    }
+    char text[64];
+    std::snprintf(text, sizeof text, "slider acceleration off by %.2e", e / m);
+    return std::string(text);
+  };
+  IdaAtDefaults(ida, error);
+  for (double rel_tol : {1e-4, 1e-5, 1e-6, 1e-7}) {
+    Problem p(cfg);
+    bench::RadauDae radau(&p.dae, rel_tol, 1e-10 * rel_tol / 1e-6);
+    radau.Initialize(0.0, p.y0, p.yp0);
+    std::vector<double> acc;
+    const auto w0 = std::chrono::steady_clock::now();
+    for (double tc : times) {
+      radau.Advance(tc);
+      acc.push_back(radau.yp()[p.slider_velocity]);
+    }
+    PrintRadau(rel_tol, radau.stats, Seconds(w0), error(acc).c_str());
+  }
+}
+
+void Clearance() {
+  std::printf(
+      "clearance joint: the first 40 contact onsets, largest difference to IDA at "
+      "1e-10 / 1e-12\n");
+  const Config cfg = ExudynMatch(false);
+  auto ida = [&](double rel_tol, double abs_tol, multibody::IntegratorStats* stats, double* wall) {
+    Problem p(cfg);
+    multibody::SimulationOptions o;
+    o.t_end = kEnd;
+    o.sample_rate = 1e3;
+    o.integrator.rel_tol = rel_tol;
+    o.integrator.abs_tol = abs_tol;
+    std::vector<double> onsets;
+    long count = 0;
+    multibody::SimulationCallbacks cb;
+    cb.on_step = [&](const multibody::SampleView& s) {
+      const multibody::ClearanceResponse r = multibody::CalcClearanceResponse(s, p.mm.clearance);
+      if (r.onsets > count) {
+        count = r.onsets;
+        onsets.push_back(r.onset_time);
+      }
+    };
+    const auto w0 = std::chrono::steady_clock::now();
+    const multibody::SimulationStatus status =
+        multibody::Simulate(p.mm.mechanism, &p.data, p.start, o, cb);
+    *wall = Seconds(w0);
+    *stats = status.stats;
+    return onsets;
+  };
+  const std::vector<double> reference = IdaReference(ida);
+  auto error = [&](const std::vector<double>& onsets) {
+    double e = 0.0;
+    size_t k = 0;
+    for (; k < 40 && k < onsets.size() && k < reference.size(); ++k)
+      e = std::max(e, std::abs(onsets[k] - reference[k]));
+    char text[96];
+    std::snprintf(text, sizeof text, "%zu onsets, the first %zu off by up to %.2e s", onsets.size(),
+                  k, e);
+    return std::string(text);
+  };
+  IdaAtDefaults(ida, error);
+  for (double rel_tol : {1e-5, 1e-6}) {
+    Problem p(cfg);
+    const multibody::Mechanism& m = p.mm.mechanism;
+    bench::RadauDae radau(&p.dae, rel_tol, 1e-10 * rel_tol / 1e-6);
+    std::vector<double> onsets;
+    Vec y(m.size()), yp(m.size());
+    // The run loop's element events (SimulationLoop::OnRoot), without its projection.
+    radau.on_root = [&](double t, const Vec& yr, const Vec& ypr, const std::vector<int>& dirs) {
+      p.prescribed.Expand(t, yr.data(), ypr.data(), y.data(), yp.data());
+      multibody::UpdateKinematics(m, &p.data, y.data());
+      bool restart = false;
+      for (const multibody::ElementSlot& e : m.elements()) {
+        for (int k = 0; k < e.num_roots; ++k) {
+          const int dir = dirs[e.root_offset + k];
+          if (dir == 0) continue;
+          const bool r = e.element->OnRoot(k, dir, t, p.data.markers[e.marker_i].kin,
+                                           p.data.markers[e.marker_j].kin,
+                                           y.data() + m.z_offset() + e.state_offset,
+                                           p.data.element_memory.data() + e.memory_offset);
+          if (r && k == 0 && dir > 0) onsets.push_back(t);  // the joint's onset restarts
+          restart |= r;
+        }
+      }
+      return restart;
+    };
+    radau.Initialize(0.0, p.y0, p.yp0);
+    const auto w0 = std::chrono::steady_clock::now();
+    radau.Advance(kEnd);
+    PrintRadau(rel_tol, radau.stats, Seconds(w0), error(onsets).c_str());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string which = argc > 1 ? argv[1] : "";
+  if (which.empty() || which == "ideal") Ideal();
+  if (which.empty() || which == "clearance") Clearance();
+  return 0;
+}
