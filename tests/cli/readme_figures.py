@@ -11,6 +11,9 @@
   resolved input, to the digits printed.
 - The main job's reduced rod against the exact rod with Rayleigh damping (p95 of the
   per-revolution peak slider acceleration, bearing-force amplification, peak gauge stress).
+- The modal reduction study with Rayleigh damping (`flexrod study reduction`): the smallest
+  Craig–Bampton k within 2 % of the exact rod, and the largest difference of k = 8 and of the
+  full FE rod, to the printed digits.
 - The rigid rig's guide calibration: the median per-revolution peak |a| at 101 rpm over the
   ideal joint's, at the preset's guide damping and 2 % below and above it, to the printed digits.
 
@@ -149,6 +152,33 @@ def check_exact_rod_comparison(binary, readme, tmp, errors):
                           % (rod, figures, quoted))
 
 
+def check_reduction_study(binary, readme, tmp, errors):
+    """The reduction study's verdict and its k = 8 and full-FE differences to the exact rod."""
+    text = readme_text(readme)
+    m = re.search(r"Craig–Bampton is within 2 % on every figure from k = (\d+) modes \(k = 8: "
+                  r"([\d.]+) %; full FE, [^:]*: ([\d.]+) %\)", text)
+    out = os.path.join(tmp, "study")
+    argv = [binary, "study", "reduction", "--no-plot", "--out", out, "--set",
+            "damping.type=rayleigh", "--set", "damping.beta=2e-5"]
+    proc = subprocess.run(argv, capture_output=True, text=True, timeout=900)
+    if proc.returncode != 0:
+        errors.append("flexrod %s failed:\n%s" % (" ".join(argv[1:]), proc.stderr))
+        return
+    verdict = open(os.path.join(out, "verdict.txt"), encoding="utf-8").read()
+    k = re.search(r"within 2 % of the exact rod on every figure: (\d+)", verdict)
+    if k is None or k.group(1) != m.group(1):
+        errors.append("reduction study: %s, the README says from k = %s"
+                      % (verdict.strip(), m.group(1)))
+    with open(os.path.join(out, "table.csv"), encoding="utf-8") as f:
+        rows = {r[0]: r for r in (line.rstrip("\n").split(",") for line in f)}
+    column = rows["variant"].index("max |diff.| [%]")
+    for variant, quoted in (("cb-8", m.group(2)), ("full", m.group(3))):
+        value = "%.2f" % float(rows[variant][column])
+        if value != quoted:
+            errors.append("reduction study: %s within %s %% of the exact rod, the README says %s %%"
+                          % (variant, value, quoted))
+
+
 def main(argv):
     binary, readme = argv[1], argv[2]
     errors = []
@@ -158,6 +188,7 @@ def main(argv):
         check_buckling(readme, tmp, errors)
         check_rigid_rig_calibration(binary, readme, tmp, errors)
         check_exact_rod_comparison(binary, readme, tmp, errors)
+        check_reduction_study(binary, readme, tmp, errors)
     for err in errors:
         print(err)
     print("%d README figures differ" % len(errors))
