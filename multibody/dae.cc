@@ -99,10 +99,7 @@ void MassTimes(const Body& b, const BodyScratch& s, const double* pb, const doub
       Saf += b.Sbar.col(i) * af[i];
       tail[i] = s.c(i) * ath + b.Sbar(0, i) * aRl.x() + b.Sbar(1, i) * aRl.y();
     }
-    for (int j = 0; j < n; ++j) {
-      const double* col = b.Mff.col(j).data();
-      for (int i = 0; i < n; ++i) tail[i] += col[i] * af[j];
-    }
+    b.mass_ff.AddTermwise(af, tail);
     f += s.A * Saf;
   }
   out[kX] = f.x();

@@ -30,7 +30,7 @@ namespace {
 
 // [H_k x] (n × r) into h: Body::strain_tensors stacks the H_k (n r × n).
 void StrainTensorProducts(const Body& b, const CMap& x, Mat* h) {
-  MatVec(b.strain_tensors, x.data(), h->data());
+  b.strain_tensors.Apply(x.data(), h->data());
 }
 
 // out += Σ_k y_k H_k q for strain forces y (r): the modal kernel's [H_k q] y, or the
@@ -117,7 +117,7 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
   CMap q(pb + kFirstMode, n), qd(vb + kFirstMode, n);
   // One product for S̄ q, M_ff q, S̃ q, K q (and W q): each row's sum in the same order as
   // separate products, one call instead of four or five.
-  MatVec(b.q_products, q.data(), s->q_products.data());
+  b.q_products.Apply(q.data(), s->q_products.data());
   s->s += s->q_products.head<2>();
   s->w = b.I1 + s->q_products.segment(2, n);
   s->c = b.Ibar + s->q_products.segment(2 + n, n);
@@ -129,7 +129,7 @@ void UpdateBody(const Body& b, const double* pb, const double* vb, BodyScratch* 
     s->Kq += s->Fg;
   }
   if (!dynamics) return;
-  MatVec(b.qd_products, qd.data(), s->qd_products.data());
+  b.qd_products.Apply(qd.data(), s->qd_products.data());
   s->Sqd = s->qd_products.head(n);
   if (b.strain_damping) {
     UpdateStrainDamping(b, qd, s);
@@ -170,7 +170,7 @@ void AddSecondOrderStrainJacobian(const Body& b, const CMap& q, const CMap& qd, 
     s->kg_weights += s->damping_eta;
   }
   for (Eigen::Index k = 0; k < s->kg_weights.size(); ++k) {
-    s->Jg += s->kg_weights(k) * b.strain_tensors.middleRows(k * n, n);
+    b.strain_tensors.AddScaledRows(k * n, s->kg_weights(k), &s->Jg);
   }
 }
 

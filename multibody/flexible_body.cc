@@ -102,12 +102,13 @@ void SetSecondOrderStrain(const fem::ReducedRod& rod, FlexibleBodySpec::StrainKe
   b->element_strain_basis = V;
   b->strain_elongation = V.transpose() * E;
   b->strain_to_q = space.shortening_to_q * V;
-  b->strain_tensors = Mat::Zero(static_cast<Eigen::Index>(n) * r, n);
+  Mat strain_tensors = Mat::Zero(static_cast<Eigen::Index>(n) * r, n);
   for (int e = 0; e < ne; ++e) {
     const auto Te = b->transverse_rows.middleRows<4>(2 * e);
     const Mat G = Te.transpose() * b->element_Kg * Te;
-    for (int k = 0; k < r; ++k) b->strain_tensors.middleRows(k * n, n) += V(e, k) * G;
+    for (int k = 0; k < r; ++k) strain_tensors.middleRows(k * n, n) += V(e, k) * G;
   }
+  b->strain_tensors = ProductMatrix(std::move(strain_tensors));
   using Kernel = FlexibleBodySpec::StrainKernel;
   b->modal_strain_kernel =
       kernel == Kernel::kModal || (kernel == Kernel::kAuto && r * n <= 8 * (ne + 1));
@@ -118,15 +119,18 @@ void StackModalProducts(Body* b) {
   const int n = b->num_modes;
   if (n == 0) return;  // UpdateBody has no modal products to take
   const Eigen::Index r = b->geometric_stiffening ? b->strain_elongation.rows() : 0;
-  b->q_products.resize(2 + 3 * n + r, n);
-  b->q_products.topRows(2 + 3 * n) << b->Sbar, b->Mff, b->Stilde, b->K;
-  if (r > 0) b->q_products.bottomRows(r) = b->strain_elongation;
-  b->qd_products.resize(b->strain_damping ? n : 2 * n, n);
+  Mat q_products(2 + 3 * n + r, n);
+  q_products.topRows(2 + 3 * n) << b->Sbar, b->Mff, b->Stilde, b->K;
+  if (r > 0) q_products.bottomRows(r) = b->strain_elongation;
+  b->q_products = ProductMatrix(std::move(q_products));
+  b->mass_ff = ProductMatrix(b->Mff);
+  Mat qd_products(b->strain_damping ? n : 2 * n, n);
   if (b->strain_damping) {
-    b->qd_products = b->Stilde;
+    qd_products = b->Stilde;
   } else {
-    b->qd_products << b->Stilde, b->D;
+    qd_products << b->Stilde, b->D;
   }
+  b->qd_products = ProductMatrix(std::move(qd_products));
 }
 
 /// D from the damping specification, and the body's own modal frequencies and damping ratios

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "common/eigen.h"
+#include "common/matvec.h"
 #include "fem/reduced_rod.h"
 #include "multibody/force_element.h"
 
@@ -194,7 +195,7 @@ struct Body {
   Mat element_strain_basis;
   /// Rows k n … k n + n − 1: H_k = Σ_e V_ek G_e [1/m] (n r × n), so that the r products
   /// [H_k x] are one matrix-vector product with long columns.
-  Mat strain_tensors;
+  ProductMatrix strain_tensors;
   Mat strain_elongation;  ///< W = Vᵀ E (r × n): the strain coordinates' linear part [m]
   /// B = E⁺ V (n × r): q̃ = q + B σ(q) has the strains as elongations, E q̃ = V a.
   Mat strain_to_q;
@@ -213,8 +214,10 @@ struct Body {
   std::shared_ptr<const fem::ReducedRod> rod;  ///< null for rigid bodies
   /// UpdateBody's products with q as one matrix-vector product: the rows of S̄ (2), M_ff, S̃, K
   /// (n each) and, with geometric stiffening, W (r), stacked ((2 + 3n + r) × n); and with q̇:
-  /// S̃ and, unless strain_damping, D (StackModalProducts).
-  Mat q_products, qd_products;
+  /// S̃ and, unless strain_damping, D (StackModalProducts). Kept by their non-zeros when those
+  /// are few (the full FE rod: banded; ProductMatrix).
+  ProductMatrix q_products, qd_products;
+  ProductMatrix mass_ff;  ///< M_ff again, for MassTimes (by its non-zeros when banded)
   /// Structural non-zero mask of the q–q block (union of M_ff, S̃, K, D; dense with
   /// geometric stiffening), for the sparse Jacobian pattern.
   std::vector<std::vector<bool>> qq_mask;

@@ -99,18 +99,21 @@ void DefineReducedRodChannels(const Config& cfg, const MechanismModel& mm, Recor
     (*gauges_json)[name] = {{"x [m]", xs[g]}, {"y [m]", y}};
   }
   if (num_gauges > 0) {
-    rec->Add(std::move(gauge_channels), [=, linear = Vec(num_gauges), work = Vec(membranes.rows())](
-                                            const SampleView& s, double* v) mutable {
-      const Eigen::Map<const Vec> q(s.y() + q0, n);
-      MatVec(rows, q.data(), linear.data());  // into linear and work: no allocation
-      if (membrane) MatVec(membranes, q.data(), work.data());
-      for (int g = 0; g < num_gauges; ++g) {
-        double strain = linear(g);
-        if (membrane) strain += q.dot(work.segment(g * n, n));
-        v[2 * g] = strain;
-        v[2 * g + 1] = E * strain;
-      }
-    });
+    // Dense for a modal basis, by their non-zeros for the full FE rod's element-local rows.
+    rec->Add(std::move(gauge_channels),
+             [=, linear_rows = ProductMatrix(rows), membrane_rows = ProductMatrix(membranes),
+              linear = Vec(num_gauges),
+              work = Vec(membranes.rows())](const SampleView& s, double* v) mutable {
+               const Eigen::Map<const Vec> q(s.y() + q0, n);
+               linear_rows.Apply(q.data(), linear.data());  // into linear and work: no allocation
+               if (membrane) membrane_rows.Apply(q.data(), work.data());
+               for (int g = 0; g < num_gauges; ++g) {
+                 double strain = linear(g);
+                 if (membrane) strain += q.dot(work.segment(g * n, n));
+                 v[2 * g] = strain;
+                 v[2 * g + 1] = E * strain;
+               }
+             });
   }
   std::vector<Recorder::Spec> modal;
   for (int k = 0; k < n; ++k) {
