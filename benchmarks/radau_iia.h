@@ -123,7 +123,8 @@ class RadauDae {
     if (nroots_ > 0) sys_->Roots(t_, y_.data(), yp_.data(), g0_.data());
   }
 
-  /// Integrates to t_end exactly (the last step shortened to land on it), stopping at roots.
+  /// Integrates to t_end exactly (the last step shortened to land on it); a root on the way moves
+  /// the state to it and calls on_root, and the integration goes on from there.
   void Advance(double t_end) {
     while (t_ < t_end - 1e-14 * std::max(1.0, std::abs(t_end))) {
       const double proposal = h_;
