@@ -80,8 +80,8 @@ bool ReissnerBeamElement::EvaluateJacobian(double /*t*/, const MarkerKinematics&
 
 double ReissnerBeamElement::PotentialEnergy(const MarkerKinematics& i, const MarkerKinematics& j,
                                             const double* /*z*/, const double* /*memory*/) const {
-  fem::Vec6 f;
-  return fem::CalcReissnerElement(stiffness_, length_, 0.0, Dofs(i, j), fem::Vec6::Zero(), &f,
+  // The energy alone: no forces (a sample asks for every element's energy).
+  return fem::CalcReissnerElement(stiffness_, length_, 0.0, Dofs(i, j), fem::Vec6::Zero(), nullptr,
                                   nullptr, nullptr);
 }
 
