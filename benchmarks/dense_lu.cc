@@ -36,8 +36,7 @@ void Bench(const char* name, const std::vector<std::string>& sets) {
   multibody::RunData data(mech);
   multibody::InitialConditionSpec ic;
   ic.coordinates = mm.p0;
-  ic.velocities = Vec::Zero(mech.num_coordinates());
-  ic.velocities[mech.coordinate(mm.crank, multibody::kTheta)] = cfg.Quantity("drive.speed");
+  ic.velocities = mm.v0;  // the run's rigid start: the recipe's rigid-motion velocities
   const multibody::ConsistentState s = multibody::ComputeConsistentState(mech, &data, 0.0, ic);
   const multibody::PrescribedMotion pm(mech, true);
   multibody::MechanismDae dae(mech, &data, pm, std::nullopt);

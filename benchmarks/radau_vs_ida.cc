@@ -10,15 +10,15 @@
 //   against it: the slider acceleration (the slider velocity's rate) at 30 times 0.1 s apart,
 //   largest difference over its largest value.
 // - Clearance joint (Hunt–Crossley contact, events): the same three, compared on the times of
-//   the first 40 contact onsets (the motion is chaotic later).
+//   the contact onsets, pair by pair until a pair is more than 10 µs apart (a grazing touch in
+//   one sequence only), at most 15 (the motion is chaotic: by the 26th onset the defaults are
+//   1e-5 s off).
 // Printed per run: steps, rejected steps, residual evaluations, Newton iterations, Jacobians,
 // factorisations (Radau: one real and one complex), events, wall time (IDA's include its
 // compiled dense LU; Radau's Eigen's, so compare counts, not walls) and the error measure.
 // Usage: bench_radau_vs_ida [ideal|clearance] (default both). Takes about 20 s.
 #include <chrono>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -41,11 +41,8 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 }
 
 Config ExudynMatch(bool ideal) {
-  std::ifstream in(FLEXROD_SOURCE_DIR "/benchmarks/exudyn-match.toml");
-  std::stringstream text;
-  text << in.rdbuf();
   Config cfg;
-  cfg.LoadToml(text.str(), "exudyn-match.toml");
+  cfg.LoadTomlFile(FLEXROD_SOURCE_DIR "/benchmarks/exudyn-match.toml");
   if (ideal) cfg.SetAssignment("joint.type=ideal");
   return cfg;
 }
@@ -62,7 +59,7 @@ struct Problem {
   explicit Problem(const Config& cfg)
       : mm(BuildMechanism(cfg, nullptr)),
         data(mm.mechanism),
-        start(Start(cfg)),
+        start(Start()),
         prescribed(mm.mechanism, true),
         dae(mm.mechanism, &data, prescribed, std::nullopt,
             multibody::AutoVelocityTolScale(mm.mechanism)) {
@@ -77,13 +74,12 @@ struct Problem {
       if (kept[i] == full) slider_velocity = static_cast<int>(i);
     }
   }
-  multibody::ConsistentState Start(const Config& cfg) {
-    const multibody::Mechanism& m = mm.mechanism;
+  /// The run's rigid start (sim.start = rigid): the recipe's pose and rigid-motion velocities.
+  multibody::ConsistentState Start() {
     multibody::InitialConditionSpec ic;
     ic.coordinates = mm.p0;
-    ic.velocities = Vec::Zero(m.num_coordinates());
-    ic.velocities[m.coordinate(mm.crank, multibody::kTheta)] = cfg.Quantity("drive.speed");
-    return multibody::ComputeConsistentState(m, &data, 0.0, ic);
+    ic.velocities = mm.v0;
+    return multibody::ComputeConsistentState(mm.mechanism, &data, 0.0, ic);
   }
 };
 
@@ -177,7 +173,7 @@ void Ideal() {
 
 void Clearance() {
   std::printf(
-      "clearance joint: the first 40 contact onsets, largest difference to IDA at "
+      "clearance joint: the first 15 contact onsets, largest difference to IDA at "
       "1e-10 / 1e-12\n");
   const Config cfg = ExudynMatch(false);
   auto ida = [&](double rel_tol, double abs_tol, multibody::IntegratorStats* stats, double* wall) {
@@ -205,14 +201,23 @@ void Clearance() {
     return onsets;
   };
   const std::vector<double> reference = IdaReference(ida);
+  // Onsets pair up in order until one sequence has a contact the other has not (a grazing
+  // touch that comes and goes with round-off): the first pair apart by more than kApart ends
+  // the comparison, at most kPairs: over the first 15 onsets (0.06 s) IDA at the defaults stays
+  // about 2e-7 s off the reference, and by the 26th the chaotic motion has moved them 1e-5 s.
+  constexpr double kApart = 1e-5;  // [s]
+  constexpr size_t kPairs = 15;
   auto error = [&](const std::vector<double>& onsets) {
     double e = 0.0;
     size_t k = 0;
-    for (; k < 40 && k < onsets.size() && k < reference.size(); ++k)
+    for (; k < kPairs && k < onsets.size() && k < reference.size(); ++k) {
+      if (std::abs(onsets[k] - reference[k]) > kApart) break;
       e = std::max(e, std::abs(onsets[k] - reference[k]));
-    char text[96];
-    std::snprintf(text, sizeof text, "%zu onsets, the first %zu off by up to %.2e s", onsets.size(),
-                  k, e);
+    }
+    char text[128];
+    std::snprintf(text, sizeof text,
+                  "%zu onsets, the first %zu (to t = %.3f s) off by up to %.2e s", onsets.size(), k,
+                  k > 0 ? reference[k - 1] : 0.0, e);
     return std::string(text);
   };
   IdaAtDefaults(ida, error);
@@ -222,23 +227,13 @@ void Clearance() {
     bench::RadauDae radau(&p.dae, rel_tol, 1e-10 * rel_tol / 1e-6);
     std::vector<double> onsets;
     Vec y(m.size()), yp(m.size());
-    // The run loop's element events (SimulationLoop::OnRoot), without its projection.
+    // The run loop's element events (ApplyElementRoots), without its projection; the joint's
+    // onsets are its first root crossing upwards with a restart.
+    const int onset_root = m.element(p.mm.clearance).root_offset;
     radau.on_root = [&](double t, const Vec& yr, const Vec& ypr, const std::vector<int>& dirs) {
       p.prescribed.Expand(t, yr.data(), ypr.data(), y.data(), yp.data());
-      multibody::UpdateKinematics(m, &p.data, y.data());
-      bool restart = false;
-      for (const multibody::ElementSlot& e : m.elements()) {
-        for (int k = 0; k < e.num_roots; ++k) {
-          const int dir = dirs[e.root_offset + k];
-          if (dir == 0) continue;
-          const bool r = e.element->OnRoot(k, dir, t, p.data.markers[e.marker_i].kin,
-                                           p.data.markers[e.marker_j].kin,
-                                           y.data() + m.z_offset() + e.state_offset,
-                                           p.data.element_memory.data() + e.memory_offset);
-          if (r && k == 0 && dir > 0) onsets.push_back(t);  // the joint's onset restarts
-          restart |= r;
-        }
-      }
+      const bool restart = multibody::ApplyElementRoots(m, &p.data, t, y.data(), dirs.data());
+      if (restart && dirs[onset_root] > 0) onsets.push_back(t);
       return restart;
     };
     radau.Initialize(0.0, p.y0, p.yp0);

@@ -337,6 +337,22 @@ ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, do
   return state;
 }
 
+bool ApplyElementRoots(const Mechanism& model, RunData* data, double t, double* y,
+                       const int* roots) {
+  UpdateKinematics(model, data, y);
+  bool must_restart = false;
+  for (const ElementSlot& e : model.elements()) {
+    for (int k = 0; k < e.num_roots; ++k) {
+      const int dir = roots[e.root_offset + k];
+      if (dir == 0) continue;
+      must_restart |= e.element->OnRoot(
+          k, dir, t, data->markers[e.marker_i].kin, data->markers[e.marker_j].kin,
+          y + model.z_offset() + e.state_offset, data->element_memory.data() + e.memory_offset);
+    }
+  }
+  return must_restart;
+}
+
 void SetBodyPose(const Mechanism& model, BodyId body, const Vec2& origin, double angle, Vec* p) {
   if (p->size() != model.num_coordinates()) p->setZero(model.num_coordinates());
   (*p)(model.coordinate(body, kX)) = origin.x();

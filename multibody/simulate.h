@@ -60,6 +60,13 @@ ConsistentState ComputeConsistentState(const Mechanism& model, RunData* data, do
 /// Recomputes v̇, λ (μ = 0), ṗ = v and ż at fixed (p, v, z): used after events and restarts.
 void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double t, Vec* y, Vec* yp);
 
+/// The elements' events at a located root, as the run loop handles every IDA root: the
+/// kinematics at the full state y (UpdateKinematics), then each element whose root function k
+/// crossed (roots[root_offset + k] = ±1, IDA's directions) updates its memory and states
+/// (ForceElement::OnRoot). True if one of them asks for a re-initialisation.
+bool ApplyElementRoots(const Mechanism& model, RunData* data, double t, double* y,
+                       const int* roots);
+
 /// Convenience for building guesses: writes a body's frame pose / velocity into p / v.
 void SetBodyPose(const Mechanism& model, BodyId body, const Vec2& origin, double angle, Vec* p);
 void SetBodyVelocity(const Mechanism& model, BodyId body, const Vec2& velocity,

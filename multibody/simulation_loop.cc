@@ -323,18 +323,7 @@ class SimulationLoop {
     int* roots = roots_.data();
     ida_.RootInfo(roots);
     ExpandCurrent(t_now_, &yev_, &ypev_);
-    UpdateKinematics(model_, data_, yev_.data());
-    bool must_restart = false;
-    for (const ElementSlot& e : model_.elements()) {
-      for (int k = 0; k < e.num_roots; ++k) {
-        const int dir = roots[e.root_offset + k];
-        if (dir == 0) continue;
-        must_restart |= e.element->OnRoot(k, dir, t_now_, data_->markers[e.marker_i].kin,
-                                          data_->markers[e.marker_j].kin,
-                                          yev_.data() + model_.z_offset() + e.state_offset,
-                                          data_->element_memory.data() + e.memory_offset);
-      }
-    }
+    const bool must_restart = ApplyElementRoots(model_, data_, t_now_, yev_.data(), roots);
     const int index_root = dae_.index_root();
     if (index_root >= 0 && roots[index_root] != 0) OnIndex();
     if (must_restart && t_end_ - t_now_ > t_fuzz_) Restart(t_now_);
