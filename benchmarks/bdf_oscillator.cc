@@ -50,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "benchmarks/bdf_stability.h"
 #include "benchmarks/radau_iia.h"
 #include "input/config.h"
 #include "input/presets.h"
@@ -57,6 +58,9 @@
 #include "signals/signals_spectrum.h"
 
 namespace {
+
+using flexrod::bench::BdfInstabilityOnset;
+using flexrod::bench::BdfStable;
 
 constexpr double kOmega = 2.0 * std::numbers::pi * 628.0;         // mode [rad/s]
 constexpr double kDrive = 2.0 * std::numbers::pi * 200.0 / 60.0;  // crank [rad/s]
@@ -215,36 +219,6 @@ ErrorRecord RunRadau(const Oscillator& o, double h) {
     err.Add(o, t + h, y(0));
   }
   return err;
-}
-
-/// Whether BDF-k applied to ẏ = λ y at z = h λ keeps the root condition: every root of
-/// ρ(ξ) − z ξᵏ inside the unit circle, ρ(ξ) = Σⱼ₌₁ᵏ (1/j) ξ^(k−j) (ξ − 1)ʲ (BDF-k in backward
-/// differences).
-bool BdfStable(int k, std::complex<double> z) {
-  Eigen::VectorXcd c = Eigen::VectorXcd::Zero(k + 1);  // coefficients, ξ⁰ first
-  for (int j = 1; j <= k; ++j) {
-    double binomial = 1.0;  // C(j, i)
-    for (int i = 0; i <= j; ++i) {
-      c(k - j + i) += binomial * ((j - i) % 2 ? -1.0 : 1.0) / j;
-      binomial = binomial * (j - i) / (i + 1);
-    }
-  }
-  c(k) -= z;
-  Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(k, k);
-  for (int i = 0; i < k; ++i) companion(0, i) = -c(k - 1 - i) / c(k);
-  for (int i = 1; i < k; ++i) companion(i, i - 1) = 1.0;
-  const Eigen::VectorXcd roots =
-      Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(companion).eigenvalues();
-  return roots.cwiseAbs().maxCoeff() <= 1.0 + 1e-9;
-}
-
-/// Smallest h ω in (0, 4] at which BDF-k is unstable on λ = ω (−ζ + i √(1 − ζ²)); 0 if never.
-double BdfInstabilityOnset(int k, double zeta) {
-  const std::complex<double> dir(-zeta, std::sqrt(1.0 - zeta * zeta));
-  for (double hw = 0.01; hw <= 4.0; hw += 0.01) {
-    if (!BdfStable(k, hw * dir)) return hw;
-  }
-  return 0.0;
 }
 
 /// BDF-k's angle of A(α)-stability [deg]: the widest sector |arg(−z)| < α where it is stable,

@@ -16,12 +16,25 @@
 // Printed per run: steps, rejected steps, residual evaluations, Newton iterations, Jacobians,
 // factorisations (Radau: one real and one complex), events, wall time (IDA's include its
 // compiled dense LU; Radau's Eigen's, so compare counts, not walls) and the error measure.
-// Usage: bench_radau_vs_ida [ideal|clearance] (default both). Takes about 20 s.
+// - Steps (`steps`): what holds IDA's steps at the defaults on both, from the DAE's linearised
+//   modes along the run (MeasureStepBound): on the ideal joint a stability limit of the BDF
+//   formulas (as bench_bdf_oscillator shows on one oscillator), with the clearance joint the
+//   accuracy asked, a third of the steps in contact at orders 1-3 (half as many without
+//   friction: the Coulomb law's ramp has corners).
+// Usage: bench_radau_vs_ida [ideal|clearance|steps] [--check] (default all three; --check with
+// `steps` tests its claims as ranges and exits 1 if one fails: ctest bench.step_bound_claims).
+// Takes about 30 s, `steps` about 9 s.
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
+#include <complex>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "benchmarks/bdf_stability.h"
 #include "benchmarks/radau_iia.h"
 #include "input/config.h"
 #include "mechanisms/mechanism_model.h"
@@ -243,11 +256,168 @@ void Clearance() {
   }
 }
 
+/// What holds IDA's steps at the defaults (MeasureStepBound): along a run of the exudyn-match
+/// slider-crank (ideal or clearance joint), every `every`-th step, the DAE's linearised modes (the
+/// finite generalised eigenvalues λ of F_y v = −λ F_ẏ v at the step's solution) and, for each, how
+/// far the step could grow before BDF at IDA's current order broke the root condition on it
+/// (bdf_stability.h): the factor band_start / (h |λ|), 0 inside the band, none past it. The
+/// smallest factor over the modes is the step's stability margin: near 1, the step sits at a
+/// stability limit; well above 1, it is held by the accuracy asked. Steps within kSettle steps of
+/// a (re-)initialisation (IDA's start-up at order 1) and before kWarmUp are left out. Also the
+/// steps per BDF order, in contact and not. A plain IDA loop: the run loop's projection at
+/// restarts is left out, so the counts differ from a run's by a few percent.
+struct StepBound {
+  std::vector<double> margins[2];  // [not in contact, in contact]
+  long steps_by_order[2][6] = {};
+  double step_sum_by_order[2][6] = {};
+  long steps{0};
+  /// Share of the margins at or below `factor` (c: 0 not in contact, 1 in contact).
+  double ShareWithin(int c, double factor) const {
+    if (margins[c].empty()) return 0.0;
+    return static_cast<double>(std::count_if(margins[c].begin(), margins[c].end(),
+                                             [&](double m) { return m <= factor; })) /
+           static_cast<double>(margins[c].size());
+  }
+  double Median(int c) const {
+    std::vector<double> v = margins[c];
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  }
+  /// Share of the steps at BDF orders up to `max_order`.
+  double LowOrderShare(int c, int max_order) const {
+    long low = 0, all = 0;
+    for (int k = 1; k <= 5; ++k) {
+      all += steps_by_order[c][k];
+      if (k <= max_order) low += steps_by_order[c][k];
+    }
+    return all > 0 ? static_cast<double>(low) / static_cast<double>(all) : 0.0;
+  }
+};
+
+StepBound MeasureStepBound(bool ideal, long every, const char* assignment = nullptr) {
+  constexpr long kSettle = 30;     // steps after a (re-)initialisation left out
+  constexpr double kWarmUp = 0.2;  // [s] the start from rest, left out
+  Config cfg = ExudynMatch(ideal);
+  if (assignment) cfg.SetAssignment(assignment);
+  Problem p(cfg);
+  const multibody::Mechanism& m = p.mm.mechanism;
+  const int n = p.dae.size();
+  multibody::IntegratorOptions o;  // the run's defaults
+  o.rel_tol = 1e-6;
+  o.abs_tol = 1e-10;
+  multibody::IdaIntegrator ida(&p.dae, o);
+  ida.Initialize(0.0, p.y0.data(), p.yp0.data());
+  std::vector<int> roots(static_cast<size_t>(p.dae.num_roots()));
+  Vec y(m.size()), yp(m.size());
+  Eigen::MatrixXd fy(n, n), fyp(n, n);
+  std::map<std::pair<int, long>, std::pair<double, double>> bands;  // (order, 1000 ζ) -> band
+  StepBound out;
+  bool contact = false;
+  long since_start = 0;
+  for (double t = 0.0; t < kEnd;) {
+    const multibody::StepResult r = ida.Step(kEnd);
+    t = r.t;
+    if (r.outcome == multibody::StepOutcome::kRoot) {
+      ida.RootInfo(roots.data());
+      p.prescribed.Expand(t, ida.y(), ida.yp(), y.data(), yp.data());
+      if (multibody::ApplyElementRoots(m, &p.data, t, y.data(), roots.data())) {
+        ida.Initialize(t, ida.y(), ida.yp());
+        since_start = 0;
+      }
+      if (!ideal) {
+        contact = multibody::CalcClearanceResponse(
+                      multibody::SampleView(m, &p.data, t, y.data(), yp.data()), p.mm.clearance)
+                      .contact_flag;
+      }
+      continue;
+    }
+    if (r.outcome != multibody::StepOutcome::kStep) continue;
+    ++out.steps;
+    ++since_start;
+    const multibody::IntegratorStats st = ida.stats();
+    out.steps_by_order[contact][st.last_order] += 1;
+    out.step_sum_by_order[contact][st.last_order] += st.last_step;
+    if (out.steps % every != 0 || since_start <= kSettle || t < kWarmUp) continue;
+    fy.setZero();
+    fyp.setZero();
+    p.dae.JacobianAndDerivativePart(t, 0.0, ida.y(), ida.yp(), fy.data(), fyp.data());
+    const Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> modes(fy, -fyp);
+    double margin = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      const std::complex<double> alpha = modes.alphas()(i);
+      const double beta = modes.betas()(i);
+      if (std::abs(beta) <= 1e-12 * std::abs(alpha)) continue;  // an algebraic unknown
+      const std::complex<double> lambda = alpha / beta;
+      const double hw = st.last_step * std::abs(lambda);
+      if (lambda.imag() < 0.0 || hw < 1e-3) continue;  // one of a pair; a slow motion
+      const double zeta = std::clamp(-lambda.real() / std::abs(lambda), 0.0, 1.0);
+      const auto key = std::make_pair(st.last_order, std::lround(1e3 * zeta));
+      auto it = bands.find(key);
+      if (it == bands.end())
+        it = bands.emplace(key, bench::BdfInstabilityBand(key.first, 1e-3 * key.second)).first;
+      const auto [first, last] = it->second;
+      if (first == 0.0 || hw > last) continue;  // never unstable, or past the band
+      margin = std::min(margin, hw < first ? first / hw : 0.0);
+    }
+    out.margins[contact].push_back(margin);
+  }
+  return out;
+}
+
+/// --check: the claims the README's "What sets the step" makes, as ranges; false if one fails.
+bool StepsSection(bool check) {
+  std::printf(
+      "what holds IDA's steps (rel_tol 1e-6, abs_tol 1e-10): stability margin = how far the step "
+      "could grow before BDF at IDA's order turned unstable on one of the DAE's linearised modes "
+      "(0: it is unstable there now)\n");
+  const StepBound ideal = MeasureStepBound(true, 101), clearance = MeasureStepBound(false, 499),
+                  frictionless = MeasureStepBound(false, 499, "joint.friction_law=none");
+  auto print = [](const char* name, const StepBound& b, int c) {
+    std::printf(
+        "  %-26s %6zu steps analysed: margin median %.2f, within 1.5: %4.1f %%; steps by "
+        "order (mean step):",
+        name, b.margins[c].size(), b.Median(c), 100.0 * b.ShareWithin(c, 1.5));
+    for (int k = 1; k <= 5; ++k) {
+      const long s = b.steps_by_order[c][k];
+      std::printf(" %d: %ld (%.2g s)", k, s, s ? b.step_sum_by_order[c][k] / s : 0.0);
+    }
+    std::printf("\n");
+  };
+  print("ideal joint", ideal, 0);
+  print("clearance, pin free", clearance, 0);
+  print("clearance, in contact", clearance, 1);
+  print("no friction, pin free", frictionless, 0);
+  print("no friction, in contact", frictionless, 1);
+  if (!check) return true;
+  bool ok = true;
+  auto claim = [&](bool holds, const char* what) {
+    std::printf("%s: %s\n", holds ? "ok" : "FAILED", what);
+    ok = ok && holds;
+  };
+  // README, "What sets the step": 3.6 and 6.7 times, three quarters, a third, half as many.
+  claim(ideal.ShareWithin(0, 1.5) >= 0.6 && ideal.ShareWithin(0, 1.5) <= 0.9,
+        "ideal joint: three quarters of the steps within 1.5 times of a stability limit (60-90 %)");
+  claim(clearance.Median(0) >= 3.0 && clearance.Median(0) <= 4.5 && clearance.Median(1) >= 5.0 &&
+            clearance.Median(1) <= 9.0,
+        "clearance: median margin 3.6 with the pin free (3-4.5), 6.7 in contact (5-9)");
+  claim(clearance.ShareWithin(0, 1.5) <= 0.2 && clearance.ShareWithin(1, 1.5) <= 0.2,
+        "clearance: at most 20 % of the steps within 1.5 times of a stability limit");
+  claim(clearance.LowOrderShare(1, 3) >= 0.25 && clearance.LowOrderShare(1, 3) <= 0.4,
+        "clearance: a third of the steps in contact at BDF orders 1-3 (25-40 %)");
+  const double half = frictionless.LowOrderShare(1, 3) / clearance.LowOrderShare(1, 3);
+  claim(
+      half >= 0.35 && half <= 0.65,
+      "without friction, half as large a share of the steps in contact at orders 1-3 (0.35-0.65)");
+  return ok;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "";
+  const bool check = argc > 2 && std::string(argv[2]) == "--check";
   if (which.empty() || which == "ideal") Ideal();
   if (which.empty() || which == "clearance") Clearance();
+  if (which.empty() || which == "steps") return StepsSection(check) ? 0 : 1;
   return 0;
 }
