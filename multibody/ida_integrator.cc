@@ -100,6 +100,8 @@ struct IdaIntegrator::Impl {
   bool suppress_algebraic{true};             // IntegratorOptions::suppress_algebraic
   std::vector<long> step_limiting;           // IntegratorOptions::count_step_limiting, by unknown
   long step_limiting_counted{0};  // IDA's step counter at the last count (since IDAReInit)
+  long order_one_steps{0};        // IntegratorStats::order_one_steps
+  long order_counted{0};          // IDA's step counter at the last CountOrderOne
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -168,6 +170,16 @@ struct IdaIntegrator::Impl {
   /// IntegratorOptions::count_step_limiting: after a step, the unknown under error control
   /// with the largest |e_i| w_i counts one step; a call that took no new step counts nothing.
   void CountStepLimiting();
+  /// After a call that took a step: counts it if it was taken at order 1.
+  void CountOrderOne() {
+    long steps = 0;
+    int order = 0;
+    CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
+    if (steps == order_counted) return;
+    order_counted = steps;
+    CheckFlag(IDAGetLastOrder(mem, &order), "IDAGetLastOrder");
+    if (order == 1) ++order_one_steps;
+  }
   /// Back to IDA's own step growth (IDASetEtaMax: a value <= 1 restores its default).
   void LiftStepGrowthGuard() {
     CheckFlag(IDASetEtaMax(mem, 0.0), "IDASetEtaMax");
@@ -368,6 +380,7 @@ void IdaIntegrator::Impl::Reinitialize(double t0, const double* y0, const double
   if (guarded_windows_left > 0) LiftStepGrowthGuard();  // a restart grows its steps anew
   window_steps = window_error_test_failures = 0;
   step_limiting_counted = 0;
+  order_counted = 0;
   newton_rate_factor = 20.0;
   must_evaluate = true;
   ++reinits;
@@ -650,7 +663,10 @@ StepResult IdaIntegrator::Step(double tout) {
     I.pending = nullptr;
     std::rethrow_exception(e);
   }
-  if (flag >= 0) I.GuardStepGrowth();
+  if (flag >= 0) {
+    I.GuardStepGrowth();
+    I.CountOrderOne();
+  }
   if (flag >= 0 && !I.step_limiting.empty()) I.CountStepLimiting();
   StepResult out;
   if (flag < 0) {
@@ -883,6 +899,7 @@ IntegratorStats IdaIntegrator::stats() const {
   s.nonlinear_iterations += I.base.nonlinear_iterations;
   s.nonlinear_convergence_failures += I.base.nonlinear_convergence_failures;
   s.error_test_failures += I.base.error_test_failures;
+  s.order_one_steps = I.order_one_steps;
   s.roots_found = I.roots;
   s.reinitialisations = I.reinits;
   s.residual_seconds = I.residual_seconds;

@@ -142,6 +142,9 @@ struct IntegratorStats {
   long nonlinear_iterations{0};
   long nonlinear_convergence_failures{0};
   long error_test_failures{0};
+  /// steps taken at BDF order 1: IDA starts there after every (re-)initialisation and raises
+  /// the order after steps without a failure (CaughtStepControlNote, multibody/simulate.h)
+  long order_one_steps{0};
   long roots_found{0};
   long reinitialisations{0};
   int last_order{0};

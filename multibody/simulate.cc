@@ -553,6 +553,26 @@ const char* ToString(SimulationOutcome outcome) {
   return "?";
 }
 
+std::string CaughtStepControlNote(const IntegratorStats& stats) {
+  if (stats.steps < 1000) return "";
+  const char* cause =
+      "stiff elastic coordinates coupled to joints catch the step control at this tolerance; "
+      "loosened tolerances can cause this: tighten sim.rel_tol and sim.abs_tol (the defaults "
+      "1e-6 and 1e-10, or tighter)";
+  std::ostringstream os;
+  if (stats.error_test_failures > stats.steps / 2) {
+    os << "error-test failures on most steps (" << stats.error_test_failures << " of "
+       << stats.steps << "): " << cause;
+  } else if (static_cast<double>(stats.order_one_steps) >=
+             kCaughtOrderOneShare * static_cast<double>(stats.steps)) {
+    os << std::lround(100.0 * static_cast<double>(stats.order_one_steps) /
+                      static_cast<double>(stats.steps))
+       << " % of the steps at BDF order 1 (" << stats.order_one_steps << " of " << stats.steps
+       << "), so it can take more steps than at a tighter tolerance: " << cause;
+  }
+  return os.str();
+}
+
 std::string SimulationStatus::Summary() const {
   std::ostringstream os;
   os << ToString(outcome) << " at t = " << t_reached << " s";
@@ -571,12 +591,8 @@ std::string SimulationStatus::Summary() const {
          << worst_error_variable;
     }
   }
-  if (stats.steps > 1000 && stats.error_test_failures > stats.steps / 2) {
-    os << "\n  note: error-test failures on most steps (" << stats.error_test_failures << " of "
-       << stats.steps
-       << "): stiff elastic coordinates coupled to joints keep the step near "
-          "1/|lambda_max|; loosened tolerances can cause this: tighten sim.rel_tol and "
-          "sim.abs_tol";
+  if (const std::string note = CaughtStepControlNote(stats); !note.empty()) {
+    os << "\n  note: " << note;
   }
   os << "\n  steps " << stats.steps << ", residuals " << stats.residual_evaluations
      << ", Jacobians " << stats.jacobian_evaluations << ", Newton iterations "

@@ -317,6 +317,18 @@ struct SimulationStatus {
   std::string Summary() const;
 };
 
+/// At least this share of a run's steps at BDF order 1 (IntegratorStats::order_one_steps)
+/// means IDA's step control is caught there: it starts every (re-)initialisation at order 1
+/// and raises the order only after steps without a failure. Runs at the default tolerances
+/// take a few percent of their steps there (the first ones after each contact onset); the
+/// exudyn-match slider-crank with the ideal joint at rel_tol 1e-5 about half, and twice the
+/// steps of the defaults (RunRobustness.AStepControlHeldAtOrderOneIsWarnedAbout).
+inline constexpr double kCaughtOrderOneShare = 0.2;
+/// What a run whose step control stiff elastic coordinates caught should be told, or "" : most
+/// steps failed the error test, or at least kCaughtOrderOneShare of them were taken at order 1
+/// (runs of at least 1 000 steps).
+std::string CaughtStepControlNote(const IntegratorStats& stats);
+
 /// Runs from a consistent state (state.t is the start time; options.t_start is ignored).
 SimulationStatus Simulate(const Mechanism& model, RunData* data, const ConsistentState& state,
                           const SimulationOptions& options, const SimulationCallbacks& callbacks);

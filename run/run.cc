@@ -50,6 +50,7 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
                       {"nonlinear_iterations", st.stats.nonlinear_iterations},
                       {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
                       {"error_test_failures", st.stats.error_test_failures},
+                      {"order_one_steps", st.stats.order_one_steps},
                       {"roots_found", st.stats.roots_found},
                       {"root_stall_restarts", st.root_stall_restarts},
                       {"linear_solver", multibody::ToString(st.linear_solver)},
@@ -359,6 +360,8 @@ void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel
     }
   }
   out.summary["integrator"] = StatusJson(out.status, profile);
+  if (const std::string note = multibody::CaughtStepControlNote(out.status.stats); !note.empty())
+    out.summary["warnings"].push_back("integrator: " + note);
   for (size_t e = 0; e < out.status.element_seconds.size(); ++e) {  // RunOutputOptions::profile
     nlohmann::json& t =
         out.summary["integrator"]["element_time [s]"][m.elements()[e].element->type_name()];

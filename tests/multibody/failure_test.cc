@@ -232,19 +232,35 @@ TEST(IntegratorFailure, RootThatStaysZeroIsPassedByReinitialising) {
   for (size_t k = 0; k < c.times.size(); ++k) EXPECT_NEAR(c.times[k], 1e-3 * k, 1e-12) << k;
 }
 
-// A run whose steps mostly fail the error test gets a note with keys a user can set.
-TEST(IntegratorFailure, MostStepsFailingTheErrorTestGivesANoteWithInputKeys) {
-  SimulationStatus st;
-  st.outcome = SimulationOutcome::kCompleted;
-  st.stats.steps = 2000;
-  st.stats.error_test_failures = 1500;
-  const std::string text = st.Summary();
-  EXPECT_NE(text.find("error-test failures on most steps (1500 of 2000)"), std::string::npos)
-      << text;
-  EXPECT_NE(text.find("sim.rel_tol"), std::string::npos) << text;
-  EXPECT_NE(text.find("sim.abs_tol"), std::string::npos) << text;
-  st.stats.error_test_failures = 900;
-  EXPECT_EQ(st.Summary().find("on most steps"), std::string::npos);
+// A run whose step control stiff elastic coordinates caught gets a note with the keys a user
+// can set (CaughtStepControlNote, which Summary prints): when most of its steps failed the
+// error test, or when a fifth or more of them were taken at BDF order 1 (kCaughtOrderOneShare);
+// not below, nor for a run too short to tell.
+TEST(IntegratorFailure, ACaughtStepControlGivesANoteWithInputKeys) {
+  struct Case {
+    long steps, error_test_failures, order_one_steps;
+    const char* note;  // nullptr: none
+  };
+  for (const Case& c : {Case{2000, 1500, 0, "error-test failures on most steps (1500 of 2000)"},
+                        Case{2000, 900, 0, nullptr},
+                        Case{2000, 0, 500, "25 % of the steps at BDF order 1 (500 of 2000)"},
+                        Case{2000, 0, 399, nullptr}, Case{999, 600, 900, nullptr}}) {
+    SimulationStatus st;
+    st.outcome = SimulationOutcome::kCompleted;
+    st.stats.steps = c.steps;
+    st.stats.error_test_failures = c.error_test_failures;
+    st.stats.order_one_steps = c.order_one_steps;
+    const std::string note = CaughtStepControlNote(st.stats), text = st.Summary();
+    if (c.note == nullptr) {
+      EXPECT_EQ(note, "") << c.steps;
+      EXPECT_EQ(text.find("note:"), std::string::npos) << text;
+      continue;
+    }
+    EXPECT_EQ(note.find(c.note), 0u) << note;
+    EXPECT_NE(text.find("note: " + note), std::string::npos) << text;
+    EXPECT_NE(note.find("sim.rel_tol"), std::string::npos) << note;
+    EXPECT_NE(note.find("sim.abs_tol"), std::string::npos) << note;
+  }
 }
 
 // A slider line 0.3 m away from a 0.05 m crank with a 0.2 m rod cannot be assembled.

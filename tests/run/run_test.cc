@@ -634,6 +634,34 @@ TEST(RunRobustness, LoosenedTolerancesDoNotCatchTheStepControl) {
   EXPECT_LT(loose.matrix_setups, loose.steps / 2);
 }
 
+// The same slider-crank at rel_tol 1e-5 (abs_tol 1e-10), 1 s: IDA takes about half of its
+// 21 824 steps at order 1 (at the defaults 17 of 9 964), which the summary warns about with the
+// keys to change (multibody::CaughtStepControlNote); the defaults get no warning.
+TEST(RunRobustness, AStepControlHeldAtOrderOneIsWarnedAbout) {
+  long steps[2] = {0, 0};  // [defaults, loose]
+  for (const bool loose : {true, false}) {
+    std::vector<std::string> sets = {"joint.type=ideal", "sim.sample_rate=10 kHz",
+                                     "sim.capture=1 s"};
+    if (loose) sets.emplace_back("sim.rel_tol=1e-5");
+    const RunResult r = RunSimulation(
+        LoadRunInput(std::string(FLEXROD_SOURCE_DIR) + "/benchmarks/exudyn-match.toml", sets));
+    ASSERT_TRUE(r.ok()) << r.status.Summary();
+    const multibody::IntegratorStats& st = r.status.stats;
+    steps[loose] = st.steps;
+    EXPECT_EQ(r.summary["integrator"]["order_one_steps"].get<long>(), st.order_one_steps);
+    ASSERT_EQ(r.summary.contains("warnings"), loose) << r.summary.dump(1);
+    if (loose) {
+      EXPECT_GT(st.order_one_steps, 0.4 * st.steps);
+      const std::string w = r.summary["warnings"][0].get<std::string>();
+      EXPECT_NE(w.find("at BDF order 1"), std::string::npos) << w;
+      EXPECT_NE(w.find("sim.rel_tol"), std::string::npos) << w;
+    } else {
+      EXPECT_LT(st.order_one_steps, 0.01 * st.steps);
+    }
+  }
+  EXPECT_GT(steps[1], 1.8 * steps[0]);
+}
+
 TEST(RunRobustness, APenetrationOfATenthOfTheClearanceIsWarnedAbout) {
   // A linear spring of 1e3 N/m cannot carry the joint load within the clearance.
   const RunResult r = RunSimulation(
