@@ -70,6 +70,17 @@ void PrintFigures(const RunOptions& opt, const RunResult& run) {
     }
     std::printf("\n");
   }
+  if (opt.profile && st.steps > 0) {
+    // Held at a stability limit, IDA mostly runs at orders 3-5; held at order 1, its step
+    // control is caught (CaughtStepControlNote).
+    std::printf("  steps by BDF order (--profile):");
+    for (int k = 1; k <= 5; ++k) {
+      std::printf("%s %d: %.1f %%", k > 1 ? "," : "", k,
+                  100.0 * static_cast<double>(st.steps_by_order[static_cast<size_t>(k)]) /
+                      static_cast<double>(st.steps));
+    }
+    std::printf("\n");
+  }
   std::printf("  samples: %zu at %.6g Hz from t = %.6g s\n", run.channels.num_samples(),
               run.channels.sample_rate(), run.channels.start_time());
   if (s.contains("slider_acceleration")) {
@@ -195,11 +206,13 @@ void RegisterRun(CLI::App& app, Handler* handler) {
   cmd->add_flag("--check", opt->check,
                 "accuracy estimate: repeat the run at 100x tighter sim.rel_tol and sim.abs_tol "
                 "and report each headline figure's difference (summary accuracy_check)");
-  cmd->add_flag("--profile", opt->profile,
-                "time the integrator's residuals, Jacobians and linear solves (clock reads around "
-                "each call: a few % slower) and print their shares of the solver wall (summary "
-                "integrator residual_time, jacobian_time, linear_solve_time), and the unknowns "
-                "whose local error sets the step (summary integrator step_limiting_unknowns)");
+  cmd->add_flag(
+      "--profile", opt->profile,
+      "time the integrator's residuals, Jacobians and linear solves (clock reads around "
+      "each call: a few % slower) and print their shares of the solver wall (summary "
+      "integrator residual_time, jacobian_time, linear_solve_time), and the unknowns "
+      "whose local error sets the step (summary integrator step_limiting_unknowns), and the "
+      "shares of the steps at each BDF order (summary integrator steps_by_order)");
   cmd->add_option(
       "--vtk", opt->vtk_dir,
       "write a ParaView time series (DIR/run.pvd + one .vtu per frame) of the deformed rod, "

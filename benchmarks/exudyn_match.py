@@ -79,6 +79,10 @@ def describe_shares(s):
         print("    run   step set by (largest weighted local error after a step): "
               + ", ".join("%s %.0f %%" % (u["unknown"], 100.0 * u["steps"] / it["steps"])
                           for u in limiting[:4]))
+    by_order = it.get("steps_by_order", {})
+    if by_order and it["steps"] > 0:
+        print("    run   steps by BDF order: "
+              + ", ".join("%s: %.0f %%" % (k, 100.0 * n / it["steps"]) for k, n in by_order.items()))
 
 
 def main(argv):

@@ -99,9 +99,9 @@ struct IdaIntegrator::Impl {
   bool time_calls{false};                    // IntegratorOptions::time_calls
   bool suppress_algebraic{true};             // IntegratorOptions::suppress_algebraic
   std::vector<long> step_limiting;           // IntegratorOptions::count_step_limiting, by unknown
-  long step_limiting_counted{0};  // IDA's step counter at the last count (since IDAReInit)
-  long order_one_steps{0};        // IntegratorStats::order_one_steps
-  long order_counted{0};          // IDA's step counter at the last CountOrderOne
+  long step_limiting_counted{0};         // IDA's step counter at the last count (since IDAReInit)
+  std::array<long, 6> steps_by_order{};  // IntegratorStats::steps_by_order
+  long order_counted{0};                 // IDA's step counter at the last CountOrder
   double residual_seconds{0.0}, jacobian_seconds{0.0}, linear_seconds{0.0};
   std::exception_ptr pending;
   std::string* last_message{nullptr};
@@ -170,15 +170,15 @@ struct IdaIntegrator::Impl {
   /// IntegratorOptions::count_step_limiting: after a step, the unknown under error control
   /// with the largest |e_i| w_i counts one step; a call that took no new step counts nothing.
   void CountStepLimiting();
-  /// After a call that took a step: counts it if it was taken at order 1.
-  void CountOrderOne() {
+  /// After a call that took a step: counts it at the order it was taken at.
+  void CountOrder() {
     long steps = 0;
     int order = 0;
     CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
     if (steps == order_counted) return;
     order_counted = steps;
     CheckFlag(IDAGetLastOrder(mem, &order), "IDAGetLastOrder");
-    if (order == 1) ++order_one_steps;
+    if (order >= 1 && order <= 5) ++steps_by_order[static_cast<size_t>(order)];
   }
   /// Back to IDA's own step growth (IDASetEtaMax: a value <= 1 restores its default).
   void LiftStepGrowthGuard() {
@@ -665,7 +665,7 @@ StepResult IdaIntegrator::Step(double tout) {
   }
   if (flag >= 0) {
     I.GuardStepGrowth();
-    I.CountOrderOne();
+    I.CountOrder();
   }
   if (flag >= 0 && !I.step_limiting.empty()) I.CountStepLimiting();
   StepResult out;
@@ -899,7 +899,7 @@ IntegratorStats IdaIntegrator::stats() const {
   s.nonlinear_iterations += I.base.nonlinear_iterations;
   s.nonlinear_convergence_failures += I.base.nonlinear_convergence_failures;
   s.error_test_failures += I.base.error_test_failures;
-  s.order_one_steps = I.order_one_steps;
+  s.steps_by_order = I.steps_by_order;
   s.roots_found = I.roots;
   s.reinitialisations = I.reinits;
   s.residual_seconds = I.residual_seconds;

@@ -142,9 +142,10 @@ struct IntegratorStats {
   long nonlinear_iterations{0};
   long nonlinear_convergence_failures{0};
   long error_test_failures{0};
-  /// steps taken at BDF order 1: IDA starts there after every (re-)initialisation and raises
-  /// the order after steps without a failure (CaughtStepControlNote, multibody/simulate.h)
-  long order_one_steps{0};
+  /// [k]: steps taken at BDF order k (k = 1..5; [0] unused). IDA starts at order 1 after every
+  /// (re-)initialisation and raises the order after steps without a failure; a run held there
+  /// gets a note (CaughtStepControlNote, multibody/simulate.h).
+  std::array<long, 6> steps_by_order{};
   long roots_found{0};
   long reinitialisations{0};
   int last_order{0};

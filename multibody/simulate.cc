@@ -563,11 +563,11 @@ std::string CaughtStepControlNote(const IntegratorStats& stats) {
   if (stats.error_test_failures > stats.steps / 2) {
     os << "error-test failures on most steps (" << stats.error_test_failures << " of "
        << stats.steps << "): " << cause;
-  } else if (static_cast<double>(stats.order_one_steps) >=
+  } else if (static_cast<double>(stats.steps_by_order[1]) >=
              kCaughtOrderOneShare * static_cast<double>(stats.steps)) {
-    os << std::lround(100.0 * static_cast<double>(stats.order_one_steps) /
+    os << std::lround(100.0 * static_cast<double>(stats.steps_by_order[1]) /
                       static_cast<double>(stats.steps))
-       << " % of the steps at BDF order 1 (" << stats.order_one_steps << " of " << stats.steps
+       << " % of the steps at BDF order 1 (" << stats.steps_by_order[1] << " of " << stats.steps
        << "), so it can take more steps than at a tighter tolerance: " << cause;
   }
   return os.str();

@@ -317,7 +317,7 @@ struct SimulationStatus {
   std::string Summary() const;
 };
 
-/// At least this share of a run's steps at BDF order 1 (IntegratorStats::order_one_steps)
+/// At least this share of a run's steps at BDF order 1 (IntegratorStats::steps_by_order)
 /// means IDA's step control is caught there: it starts every (re-)initialisation at order 1
 /// and raises the order only after steps without a failure. Runs at the default tolerances
 /// take a few percent of their steps there (the first ones after each contact onset); the

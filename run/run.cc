@@ -38,6 +38,13 @@ namespace {
 /// The integrator's status and counters; with `profiled` (RunOutputOptions::profile) also the
 /// wall time of its residuals, Jacobians and linear solves, and the unknowns that set the step
 /// (SimulationStatus::step_limiting, most steps first).
+/// Steps per BDF order: {"1": n₁, …, "5": n₅}.
+nlohmann::json StepsByOrderJson(const multibody::IntegratorStats& s) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 1; k <= 5; ++k) j[std::to_string(k)] = s.steps_by_order[static_cast<size_t>(k)];
+  return j;
+}
+
 nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) {
   nlohmann::json j = {{"outcome", multibody::ToString(st.outcome)},
                       {"t_reached [s]", st.t_reached},
@@ -50,7 +57,7 @@ nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) 
                       {"nonlinear_iterations", st.stats.nonlinear_iterations},
                       {"nonlinear_convergence_failures", st.stats.nonlinear_convergence_failures},
                       {"error_test_failures", st.stats.error_test_failures},
-                      {"order_one_steps", st.stats.order_one_steps},
+                      {"steps_by_order", StepsByOrderJson(st.stats)},
                       {"roots_found", st.stats.roots_found},
                       {"root_stall_restarts", st.root_stall_restarts},
                       {"linear_solver", multibody::ToString(st.linear_solver)},

@@ -249,7 +249,7 @@ TEST(IntegratorFailure, ACaughtStepControlGivesANoteWithInputKeys) {
     st.outcome = SimulationOutcome::kCompleted;
     st.stats.steps = c.steps;
     st.stats.error_test_failures = c.error_test_failures;
-    st.stats.order_one_steps = c.order_one_steps;
+    st.stats.steps_by_order[1] = c.order_one_steps;
     const std::string note = CaughtStepControlNote(st.stats), text = st.Summary();
     if (c.note == nullptr) {
       EXPECT_EQ(note, "") << c.steps;

@@ -648,15 +648,22 @@ TEST(RunRobustness, AStepControlHeldAtOrderOneIsWarnedAbout) {
     ASSERT_TRUE(r.ok()) << r.status.Summary();
     const multibody::IntegratorStats& st = r.status.stats;
     steps[loose] = st.steps;
-    EXPECT_EQ(r.summary["integrator"]["order_one_steps"].get<long>(), st.order_one_steps);
+    const long order_one = st.steps_by_order[1];
+    long counted = 0;
+    for (int k = 1; k <= 5; ++k) {
+      const long n = r.summary["integrator"]["steps_by_order"][std::to_string(k)].get<long>();
+      EXPECT_EQ(n, st.steps_by_order[static_cast<size_t>(k)]) << k;
+      counted += n;
+    }
+    EXPECT_EQ(counted, st.steps);  // every step at one order
     ASSERT_EQ(r.summary.contains("warnings"), loose) << r.summary.dump(1);
     if (loose) {
-      EXPECT_GT(st.order_one_steps, 0.4 * st.steps);
+      EXPECT_GT(order_one, 0.4 * st.steps);
       const std::string w = r.summary["warnings"][0].get<std::string>();
       EXPECT_NE(w.find("at BDF order 1"), std::string::npos) << w;
       EXPECT_NE(w.find("sim.rel_tol"), std::string::npos) << w;
     } else {
-      EXPECT_LT(st.order_one_steps, 0.01 * st.steps);
+      EXPECT_LT(order_one, 0.01 * st.steps);
     }
   }
   EXPECT_GT(steps[1], 1.8 * steps[0]);
