@@ -11,8 +11,9 @@ process; per case it prints the process CPU time (user + system, every thread: t
 on a second core when there is one), the minimum over the rounds, the ratio to Exudyn's CPU
 time on this machine class, and the run's steps, residuals, Jacobians, events and, from one more
 run with `--profile` (not timed: its clock reads cost a few percent), the shares of the solver
-wall spent in residuals, Jacobians, linear solves, output and the rest, and the unknowns whose
-local error estimate set the step. Timing only: never a test.
+wall spent in residuals, Jacobians, linear solves, output and the rest, the unknowns whose
+local error estimate set the step, and the share of the steps at each BDF order. Timing only:
+never a test.
 
 Exudyn's CPU times are the ones the input file's header quotes (Exudyn 1.11, fixed-step
 generalised-alpha, 10 Craig-Bampton modes of a 2565-dof solid rod, one core): ideal joint
