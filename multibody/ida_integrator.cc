@@ -160,8 +160,9 @@ struct IdaIntegrator::Impl {
 
   /// After each step: at the end of a window of kGrowthWindow steps, limits the step growth
   /// to kGuardedEtaMax if more than half of them failed the error test, or lifts the limit
-  /// after kGuardedWindows guarded windows (kGrowthWindow, above).
-  void GuardStepGrowth();
+  /// after kGuardedWindows guarded windows (kGrowthWindow, above). `steps`: IDA's step counter
+  /// (since the last (re-)initialisation), as for CountStepLimiting and CountOrder.
+  void GuardStepGrowth(long steps);
   /// The unknown with the largest weighted local error estimate |e_i| w_i of the last step
   /// (IDAGetEstLocalErrors, IDAGetErrWeights), the first one on a tie; with controlled_only,
   /// among the unknowns under error control (id_i = 1, or all if algebraic ones are not
@@ -169,12 +170,10 @@ struct IdaIntegrator::Impl {
   bool LargestWeightedError(bool controlled_only, int* index, double* value);
   /// IntegratorOptions::count_step_limiting: after a step, the unknown under error control
   /// with the largest |e_i| w_i counts one step; a call that took no new step counts nothing.
-  void CountStepLimiting();
+  void CountStepLimiting(long steps);
   /// After a call that took a step: counts it at the order it was taken at.
-  void CountOrder() {
-    long steps = 0;
+  void CountOrder(long steps) {
     int order = 0;
-    CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
     if (steps == order_counted) return;
     order_counted = steps;
     CheckFlag(IDAGetLastOrder(mem, &order), "IDAGetLastOrder");
@@ -580,9 +579,7 @@ bool IdaIntegrator::Impl::LargestWeightedError(bool controlled_only, int* index,
   return true;
 }
 
-void IdaIntegrator::Impl::CountStepLimiting() {
-  long steps = 0;
-  CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
+void IdaIntegrator::Impl::CountStepLimiting(long steps) {
   if (steps == step_limiting_counted) return;
   step_limiting_counted = steps;
   int worst = -1;
@@ -592,9 +589,8 @@ void IdaIntegrator::Impl::CountStepLimiting() {
   }
 }
 
-void IdaIntegrator::Impl::GuardStepGrowth() {
-  long steps = 0, failures = 0;
-  CheckFlag(IDAGetNumSteps(mem, &steps), "IDAGetNumSteps");
+void IdaIntegrator::Impl::GuardStepGrowth(long steps) {
+  long failures = 0;
   CheckFlag(IDAGetNumErrTestFails(mem, &failures), "IDAGetNumErrTestFails");
   if (steps - window_steps < kGrowthWindow) return;
   if (guarded_windows_left > 0) {
@@ -664,10 +660,13 @@ StepResult IdaIntegrator::Step(double tout) {
     std::rethrow_exception(e);
   }
   if (flag >= 0) {
-    I.GuardStepGrowth();
-    I.CountOrder();
+    // IDA's step counter since the last (re-)initialisation, read once for the three.
+    long steps = 0;
+    CheckFlag(IDAGetNumSteps(I.mem, &steps), "IDAGetNumSteps");
+    I.GuardStepGrowth(steps);
+    I.CountOrder(steps);
+    if (!I.step_limiting.empty()) I.CountStepLimiting(steps);
   }
-  if (flag >= 0 && !I.step_limiting.empty()) I.CountStepLimiting();
   StepResult out;
   if (flag < 0) {
     // Input-type failures return before IDA sets tret: report IDA's current time instead.

@@ -35,9 +35,6 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 namespace {
 
-/// The integrator's status and counters; with `profiled` (RunOutputOptions::profile) also the
-/// wall time of its residuals, Jacobians and linear solves, and the unknowns that set the step
-/// (SimulationStatus::step_limiting, most steps first).
 /// Steps per BDF order: {"1": n₁, …, "5": n₅}.
 nlohmann::json StepsByOrderJson(const multibody::IntegratorStats& s) {
   nlohmann::json j = nlohmann::json::object();
@@ -45,6 +42,9 @@ nlohmann::json StepsByOrderJson(const multibody::IntegratorStats& s) {
   return j;
 }
 
+/// The integrator's status and counters; with `profiled` (RunOutputOptions::profile) also the
+/// wall time of its residuals, Jacobians and linear solves, and the unknowns that set the step
+/// (SimulationStatus::step_limiting, most steps first).
 nlohmann::json StatusJson(const multibody::SimulationStatus& st, bool profiled) {
   nlohmann::json j = {{"outcome", multibody::ToString(st.outcome)},
                       {"t_reached [s]", st.t_reached},
