@@ -12,8 +12,9 @@ on a second core when there is one), the minimum over the rounds, the ratio to E
 time on this machine class, and the run's steps, residuals, Jacobians, events and, from one more
 run with `--profile` (not timed: its clock reads cost a few percent), the shares of the solver
 wall spent in residuals, Jacobians, linear solves, output and the rest, the unknowns whose
-local error estimate set the step, and the share of the steps at each BDF order. Timing only:
-never a test.
+local error estimate set the step, and the share of the steps at each BDF order. It also times
+the process start-up alone (`flexrod --help`, minimum over at least 5 rounds), which every run
+pays: the dynamic loader maps and relocates the shared libraries. Timing only: never a test.
 
 Exudyn's CPU times are the ones the input file's header quotes (Exudyn 1.11, fixed-step
 generalised-alpha, 10 Craig-Bampton modes of a 2565-dof solid rod, one core): ideal joint
@@ -52,6 +53,18 @@ def run_once(binary, toml, args):
             return cpu, json.load(f)
     finally:
         shutil.rmtree(out, ignore_errors=True)
+
+
+def startup_cpu(binary, rounds):
+    """CPU seconds of `flexrod --help`, minimum over the rounds: the process start-up every run
+    pays (the dynamic loader mapping and relocating the shared libraries, HDF5's among them)."""
+    best = float("inf")
+    for _ in range(max(rounds, 5)):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        subprocess.run([binary, "--help"], capture_output=True, check=True)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        best = min(best, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
+    return best
 
 
 def describe(name, s):
@@ -98,6 +111,9 @@ def main(argv):
     if rounds < 1 or not os.path.isfile(toml):
         print(__doc__, file=sys.stderr)
         return 2
+    startup = startup_cpu(binary, rounds)
+    libraries = subprocess.run(["ldd", binary], capture_output=True, text=True).stdout.count("=>")
+    print("process start-up (flexrod --help, %d shared libraries): CPU min %.3f s" % (libraries, startup))
     for case, args in CASES.items():
         cpus, summary = [], None
         for _ in range(rounds):
@@ -107,6 +123,7 @@ def main(argv):
         print("%s: flexrod CPU min %.3f s over %d runs (%s s); Exudyn %.1f s; Exudyn / flexrod = %.1f"
               % (case, best, rounds, ", ".join("%.3f" % c for c in cpus), EXUDYN_CPU[case],
                  EXUDYN_CPU[case] / best))
+        print("    of which process start-up %.0f %%" % (100.0 * startup / best))
         describe("run", summary)
         describe_shares(run_once(binary, toml, args + extra + ["--profile"])[1])
         if "ideal" in summary and "integrator" in summary["ideal"]:
