@@ -37,18 +37,23 @@ CASES = {
 }
 
 
+def child_cpu(command):
+    """Runs `command` to its end: (its completed process, its CPU seconds, user + system, every
+    thread)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = subprocess.run(command, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return proc, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
 def run_once(binary, toml, args):
     """One run in a fresh process: (CPU seconds of the child, summary)."""
     out = tempfile.mkdtemp(prefix="flexrod_exudyn_match_")
     try:
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        proc = subprocess.run([binary, "run", toml, "--no-plot", "--out", out, *args],
-                              capture_output=True, text=True)
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc, cpu = child_cpu([binary, "run", toml, "--no-plot", "--out", out, *args])
         if proc.returncode != 0:
             sys.stderr.write(proc.stderr)
             raise SystemExit(1)
-        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
         with open(os.path.join(out, "summary.json")) as f:
             return cpu, json.load(f)
     finally:
@@ -58,13 +63,7 @@ def run_once(binary, toml, args):
 def startup_cpu(binary, rounds):
     """CPU seconds of `flexrod --help`, minimum over the rounds: the process start-up every run
     pays (the dynamic loader mapping and relocating the shared libraries, HDF5's among them)."""
-    best = float("inf")
-    for _ in range(max(rounds, 5)):
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        subprocess.run([binary, "--help"], capture_output=True, check=True)
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        best = min(best, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime))
-    return best
+    return min(child_cpu([binary, "--help"])[1] for _ in range(max(rounds, 5)))
 
 
 def describe(name, s):

@@ -173,9 +173,9 @@ struct IdaIntegrator::Impl {
   void CountStepLimiting(long steps);
   /// After a call that took a step: counts it at the order it was taken at.
   void CountOrder(long steps) {
-    int order = 0;
     if (steps == order_counted) return;
     order_counted = steps;
+    int order = 0;
     CheckFlag(IDAGetLastOrder(mem, &order), "IDAGetLastOrder");
     if (order >= 1 && order <= 5) ++steps_by_order[static_cast<size_t>(order)];
   }
