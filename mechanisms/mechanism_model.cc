@@ -214,14 +214,24 @@ MechanismModel BuildMechanismWithRodDamping(const Config& cfg,
 
 namespace {
 
+/// The input whose assembled mechanism the rod's modal damping refers to: `cfg` with the crank
+/// at 0 (drive.initial_angle = 0). The damping is a property of the rod, so it must not depend
+/// on where a run starts: the members of an ensemble (run/ensemble.h), started at other crank
+/// angles, get the same damping matrix as member 0.
+Config DampingReference(const Config& cfg) {
+  Config reference = cfg;
+  reference.Set("drive.initial_angle", "0 rad");
+  return reference;
+}
+
 /// The exact rod's Kelvin–Voigt β for damping.type = ratio | band: fitted so that the rod's
 /// first mode in the assembled mechanism (crank held, initial crank angle, ideal small-end joint,
 /// as for the reduced rod) has the requested ratio, ζ_1 = β ω_1 / 2; higher modes get more
 /// (ζ_i = β ω_i / 2), as from a Rayleigh stiffness term fitted to mode 1.
 MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
   if (!DampingRefersToMechanism(cfg)) return BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr);
-  const MechanismModel undamped = BuildMechanismWithRodDamping(cfg, nullptr, /*ideal_joint=*/true,
-                                                               multibody::DampingSpec::None());
+  const MechanismModel undamped = BuildMechanismWithRodDamping(
+      DampingReference(cfg), nullptr, /*ideal_joint=*/true, multibody::DampingSpec::None());
   const multibody::MechanismModes modes = multibody::CalcMechanismModes(
       undamped.mechanism, undamped.p0, HeldForMechanismModes(undamped));
   int first = 0;
@@ -252,8 +262,8 @@ MechanismModel BuildMechanism(const Config& cfg, std::shared_ptr<const fem::Redu
   // Modal damping refers to the rod's modes in the assembled mechanism: build it undamped (ideal
   // small-end joint), take its modes, build it again with the matching damping matrix.
   if (!rod) rod = BuildReducedRod(cfg);
-  const MechanismModel undamped =
-      BuildMechanismWithRodDamping(cfg, rod, /*ideal_joint=*/true, multibody::DampingSpec::None());
+  const MechanismModel undamped = BuildMechanismWithRodDamping(
+      DampingReference(cfg), rod, /*ideal_joint=*/true, multibody::DampingSpec::None());
   const MechanismDamping referred = ReferDampingToMechanism(undamped);
   MechanismModel out =
       BuildMechanismWithRodDamping(cfg, std::move(rod), ideal_joint, referred.spec);
