@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -17,6 +18,7 @@
 #include "input/presets.h"
 #include "io/run_vtk.h"
 #include "io/run_writer.h"
+#include "run/ensemble.h"
 #include "run/run.h"
 
 namespace flexrod::app {
@@ -30,6 +32,7 @@ struct RunOptions {
   bool no_plot{false};
   bool check{false};    ///< --check: repeat at 100x tighter tolerances, report the differences
   bool profile{false};  ///< --profile: time the integrator's calls (RunOutputOptions::profile)
+  int ensemble{-1};     ///< --ensemble N: ensemble.members; -1 = the key's value
 };
 
 /// A summary ratio to 4 significant digits; "n/a" when absent or null (undefined ratio).
@@ -123,13 +126,75 @@ void PrintFigures(const RunOptions& opt, const RunResult& run) {
   }
 }
 
-/// The accuracy check, the warnings (on stderr) and the ParaView series.
+/// "c [lo, hi]" of an ensemble figure, each to 4 significant digits, scaled by `scale`.
+std::string CentreInterval(const nlohmann::json& f, double scale = 1.0) {
+  char buf[96];
+  if (f.contains("interval")) {
+    std::snprintf(buf, sizeof buf, "%.4g [%.4g, %.4g]", f["centre"].get<double>() * scale,
+                  f["interval"][0].get<double>() * scale, f["interval"][1].get<double>() * scale);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.4g (members %.4g .. %.4g)", f["centre"].get<double>() * scale,
+                  f["members_range"][0].get<double>() * scale,
+                  f["members_range"][1].get<double>() * scale);
+  }
+  return buf;
+}
+
+/// The ensemble's figures with their intervals, and its regimes.
+void PrintEnsemble(const RunResult& run) {
+  const auto& s = run.summary;
+  if (s.contains("regime"))
+    std::printf("  window: %s (%s)\n", s["regime"]["window"].get<std::string>().c_str(),
+                s["regime"]["reason"].get<std::string>().c_str());
+  if (!s.contains("ensemble") || !s["ensemble"].contains("figures")) return;
+  const auto& e = s["ensemble"];
+  const auto& f = e["figures"];
+  std::string starts;
+  for (const auto& m : e["member_runs"]) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%s%.4g", starts.empty() ? "" : ", ",
+                  m["drive.initial_angle [rad]"].get<double>() * 180.0 / std::numbers::pi);
+    starts += buf;
+  }
+  std::printf("  ensemble: %d members (crank starts %s deg): %s\n", e["members"].get<int>(),
+              starts.c_str(), e["regime"]["label"].get<std::string>().c_str());
+  const int percent = static_cast<int>(std::lround(100.0 * e["confidence"].get<double>()));
+  if (f.contains("slider_acceleration_positive_p95")) {
+    std::printf(
+        "    load amplification, p95 of per-rev peaks over members and revolutions (%d %% "
+        "interval): slider acceleration +%s / -%s, bearing force %s\n",
+        percent, CentreInterval(f["slider_acceleration_positive_p95"]).c_str(),
+        CentreInterval(f["slider_acceleration_negative_p95"]).c_str(),
+        CentreInterval(f["bearing_force_p95"]).c_str());
+  }
+  if (f.contains("gauge_stress_p95 [Pa]")) {
+    std::printf("    gauge stress, p95 of per-rev peaks: %s MPa\n",
+                CentreInterval(f["gauge_stress_p95 [Pa]"], 1e-6).c_str());
+  }
+  if (e.contains("states")) {
+    for (size_t k = 0; k < e["states"].size(); ++k) {
+      const auto& st = e["states"][k];
+      std::string members;
+      for (const auto& m : st["members"]) members += (members.empty() ? "" : ",") + m.dump();
+      const auto& sf = st["figures"];
+      if (!sf.contains("slider_acceleration_positive_p95")) continue;
+      std::printf(
+          "    steady state %zu (members %s): slider acceleration +%s / -%s, bearing force %s\n",
+          k + 1, members.c_str(), CentreInterval(sf["slider_acceleration_positive_p95"]).c_str(),
+          CentreInterval(sf["slider_acceleration_negative_p95"]).c_str(),
+          CentreInterval(sf["bearing_force_p95"]).c_str());
+    }
+  }
+}
+
+/// The integration error (--check), the warnings (on stderr) and the ParaView series.
 void PrintCheckWarningsAndVtk(const RunResult& run, const std::string& vtk_dir) {
   const auto& s = run.summary;
   if (s.contains("accuracy_check")) {
     const auto& c = s["accuracy_check"];
     std::printf(
-        "  accuracy check (the same run at rel_tol %.3g, abs_tol %.3g): largest difference %+.3g "
+        "  integration error (--check: the same start at rel_tol %.3g, abs_tol %.3g; not the "
+        "spread over starts, which the ensemble interval gives): largest difference %+.3g "
         "%% (%s)\n",
         c["rel_tol"].get<double>(), c["abs_tol"].get<double>(),
         c["max_difference [%]"].get<double>(),
@@ -157,7 +222,9 @@ void PrintCheckWarningsAndVtk(const RunResult& run, const std::string& vtk_dir) 
 }
 
 int Run(const RunOptions& opt) {
-  const Config cfg = LoadRunInput(opt.input, opt.sets);
+  std::vector<std::string> sets = opt.sets;
+  if (opt.ensemble >= 0) sets.push_back("ensemble.members=" + std::to_string(opt.ensemble));
+  const Config cfg = LoadRunInput(opt.input, sets);
   CheckCanCreateDirectory("--out", opt.out_dir);  // before the run, not after it
   const std::optional<Config> check_cfg =
       opt.check ? std::optional<Config>(TightenedForCheck(cfg)) : std::nullopt;
@@ -168,7 +235,7 @@ int Run(const RunOptions& opt) {
   outputs.keep_channel = ChannelsTheFilesRead(cfg);  // the rest only feed the summary
   std::optional<RunPlotter> plotter;
   if (!opt.no_plot) plotter.emplace(opt.out_dir);  // its imports overlap the run
-  RunResult run = RunSimulation(cfg, nullptr, false, outputs);
+  RunResult run = RunEnsemble(cfg, outputs);
   if (check_cfg && run.ok()) {
     std::fprintf(stderr, "flexrod: --check: the same run at rel_tol %s, abs_tol %s\n",
                  check_cfg->Text("sim.rel_tol").c_str(), check_cfg->Text("sim.abs_tol").c_str());
@@ -179,6 +246,7 @@ int Run(const RunOptions& opt) {
   const double files_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_files).count();
   PrintFigures(opt, run);
+  PrintEnsemble(run);
   PrintCheckWarningsAndVtk(run, opt.vtk_dir);
   std::printf("  files: %.3g MB in %.2f s\n", bytes * 1e-6, files_seconds);
   if (plotter && run.channels.num_samples() > 1) plotter->Finish();
@@ -203,9 +271,17 @@ void RegisterRun(CLI::App& app, Handler* handler) {
   cmd->add_option("--set", opt->sets, "override a key: --set rod.height=\"25.4 mm\"")->take_all();
   cmd->add_option("--out", opt->out_dir, "output directory")->capture_default_str();
   cmd->add_flag("--no-plot", opt->no_plot, "skip the PNG plot");
+  cmd->add_option("--ensemble", opt->ensemble,
+                  "run N members from crank starts spread over the revolution (the key "
+                  "ensemble.members; default: 3 with a clearance joint on a crank) and report "
+                  "each headline figure with its bootstrap interval (summary ensemble): the "
+                  "figure to quote")
+      ->check(CLI::Range(0, 64));
   cmd->add_flag("--check", opt->check,
-                "accuracy estimate: repeat the run at 100x tighter sim.rel_tol and sim.abs_tol "
-                "and report each headline figure's difference (summary accuracy_check)");
+                "integration error: repeat the run from the same start at 100x tighter "
+                "sim.rel_tol and sim.abs_tol and report each headline figure's difference "
+                "(summary accuracy_check); it does not see how the answer depends on the start "
+                "(the ensemble interval does)");
   cmd->add_flag(
       "--profile", opt->profile,
       "time the integrator's residuals, Jacobians and linear solves (clock reads around "

@@ -2,6 +2,7 @@
 // The schema of every input key, with defaults and the reasoning behind assumed values.
 #include <algorithm>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -78,6 +79,7 @@ std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
       {"damping.alpha", non_negative},
       {"damping.beta", non_negative},
       {"sim.settle", non_negative},
+      {"sim.max_settle", non_negative},
       {"sim.max_step", non_negative},
       {"sim.max_steps", non_negative},
       {"sim.max_wall_time", non_negative},
@@ -89,6 +91,9 @@ std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
       // others
       {"rod.elements", {1.0, false, 1e5, false}},  // more elements than a beam model needs
       {"sim.steady_revolutions", {2.0, false, inf, false}},
+      {"ensemble.members", {0.0, false, 64.0, false}},
+      {"ensemble.settle_spread", non_negative},
+      {"ensemble.confidence", {0.5, false, 1.0, true}},
       {"joint.restitution", {0.0, true, 1.0, false}},
   };
   for (const auto& entry : ranges) {  // not a structured binding: clang 14 cannot capture one
@@ -352,12 +357,13 @@ const std::vector<ParamDef>& Schema() {
        D::kDimensionless,
        "band",
        "band: 1 % < 100 Hz, 10 % < 1 kHz, critical above; ratio; rayleigh. band and ratio "
-       "damp the rod's modes in the assembled mechanism (crank held, at the initial crank "
-       "angle, ideal small-end joint), not those of the rod clamped to its frame",
+       "damp the rod's modes in the assembled mechanism (crank held at 0, whatever "
+       "drive.initial_angle is, ideal small-end joint), not those of the rod clamped to its "
+       "frame",
        {"band", "ratio", "rayleigh"}},
       {"damping.ratio", K::kQuantity, D::kDimensionless, "0.02",
        "modal damping ratio (type ratio) of every mode of the rod in the assembled mechanism "
-       "(crank held, at the initial crank angle) [-]"},
+       "(crank held at 0) [-]"},
       {"damping.alpha", K::kQuantity, D::kFrequency, "0", "Rayleigh mass factor [1/s]"},
       {"damping.beta", K::kQuantity, D::kTime, "0", "Rayleigh stiffness factor [s]"},
       {"gravity.enabled", K::kBool, D::kDimensionless, "false",
@@ -380,7 +386,30 @@ const std::vector<ParamDef>& Schema() {
        "sim.start = steady: most revolutions of the search, >= 2 (the capture then starts where it "
        "stopped, "
        "with a warning)"},
-      {"sim.settle", K::kQuantity, D::kTime, "1 s", "settling time before capture [s], >= 0"},
+      {"sim.settle", K::kQuantity, D::kTime, "1 s",
+       "settling time before capture [s], >= 0 (with sim.steady_window: the shortest)"},
+      {"ensemble.members", K::kInteger, D::kDimensionless, "0",
+       "members of a run's ensemble: the same case from different starts (member k: crank start "
+       "drive.initial_angle + k ensemble.angle_step, sim.settle + k "
+       "ensemble.settle_spread / members), in parallel, sharing member 0's ideal-joint twin; each "
+       "headline figure then has an interval (summary ensemble), 0 .. 64; 0 = 3 for `flexrod run` "
+       "of a clearance joint on a crank, 1 otherwise (sweeps, studies, ideal joints)"},
+      {"ensemble.angle_step", K::kQuantity, D::kAngle, "0 deg",
+       "ensemble: member k starts its crank at drive.initial_angle + k times this [rad]; 0 = "
+       "360 deg / ensemble.members (spread evenly over the revolution)"},
+      {"ensemble.settle_spread", K::kQuantity, D::kTime, "0 s",
+       "ensemble: the members' sim.settle spread evenly over this [s], >= 0"},
+      {"ensemble.confidence", K::kQuantity, D::kDimensionless, "0.95",
+       "ensemble: two-sided coverage of the figures' bootstrap intervals, in [0.5, 1)"},
+      {"sim.steady_window", K::kBool, D::kDimensionless, "true",
+       "a crank's run (sim.start rigid or static) settles until its captured window is "
+       "stationary: no leading block of the window's per-revolution peaks (slider acceleration "
+       "+/-, bearing force, gauge stress; the first 1 .. n/2 revolutions) differs in mean from "
+       "the rest by more than max(t se, 1 %) (Student, alpha 0.01 shared by the tests); else "
+       "the window becomes settling and the next one is captured, up to sim.max_settle (then a "
+       "warning); false: the fixed sim.settle"},
+      {"sim.max_settle", K::kQuantity, D::kTime, "12 s",
+       "sim.steady_window: latest start of the captured window [s], >= 0"},
       {"sim.capture", K::kQuantity, D::kTime, "3 s", "captured duration [s], > 0 (RIG.md Table 2)"},
       {"sim.sample_rate", K::kQuantity, D::kFrequency, "100 kHz", "output sample rate [Hz], > 0"},
       {"sim.index_angle", K::kQuantity, D::kAngle, "0 deg",

@@ -68,6 +68,8 @@ SimOptions ReadSimOptions(const Config& cfg) {
   o.linear_solver = ReadChoice<SimOptions::LinearSolver>(cfg, "sim.linear_solver");
   o.eliminate_prescribed = cfg.Bool("sim.eliminate_prescribed");
   o.settle = cfg.Quantity("sim.settle");
+  o.steady_window = cfg.Bool("sim.steady_window");
+  o.max_settle = cfg.Quantity("sim.max_settle");
   o.capture = cfg.Quantity("sim.capture");
   o.index_angle = cfg.Quantity("sim.index_angle");
   o.max_steps = cfg.Integer("sim.max_steps");
@@ -75,6 +77,15 @@ SimOptions ReadSimOptions(const Config& cfg) {
   o.start = ReadChoice<SimOptions::Start>(cfg, "sim.start");
   o.steady_revolutions = cfg.Integer("sim.steady_revolutions");
   return o;
+}
+
+EnsembleOptions ReadEnsembleOptions(const Config& cfg) {
+  EnsembleOptions e;
+  e.members = cfg.Integer("ensemble.members");
+  e.angle_step = cfg.Quantity("ensemble.angle_step");
+  e.settle_spread = cfg.Quantity("ensemble.settle_spread");
+  e.confidence = cfg.Quantity("ensemble.confidence");
+  return e;
 }
 
 DriveOptions ReadDriveOptions(const Config& cfg) {

@@ -30,6 +30,8 @@ struct SimOptions {
   Start start{Start::kRigid};
   int steady_revolutions{100};  ///< sim.start = steady: most revolutions of the search, >= 2
   double settle{0.0};           ///< settling time before the capture [s]
+  bool steady_window{true};     ///< settle until the captured window is stationary
+  double max_settle{0.0};       ///< steady_window: latest start of the capture [s]
   double capture{0.0};          ///< captured duration [s]
   double sample_rate{0.0};      ///< [Hz]
   double index_angle{0.0};      ///< crank angle that starts the capture [rad]
@@ -46,6 +48,15 @@ struct SimOptions {
 /// combine keys (a capture of at least 2 samples, a steady start's drive) and the integrator's
 /// own are checked by CheckRunInput (run/run.h).
 SimOptions ReadSimOptions(const Config& cfg);
+
+/// ensemble.*: the members of a run's ensemble (run/ensemble.h).
+struct EnsembleOptions {
+  int members{0};             ///< 0: automatic (4 for `flexrod run` of a clearance crank)
+  double angle_step{0.0};     ///< [rad] between members' crank starts; 0 = 2π / members
+  double settle_spread{0.0};  ///< [s] the members' sim.settle spread over it
+  double confidence{0.95};    ///< two-sided coverage of the bootstrap intervals
+};
+EnsembleOptions ReadEnsembleOptions(const Config& cfg);
 
 /// drive.* and motor.*: the crank's drive.
 struct DriveOptions {

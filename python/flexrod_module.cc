@@ -33,6 +33,7 @@
 #include "mechanisms/impact_log.h"
 #include "mechanisms/modal_analysis.h"
 #include "run/contact_impact.h"
+#include "run/ensemble.h"
 #include "run/reduction_study.h"
 #include "run/run.h"
 #include "sweep/sweep.h"
@@ -119,8 +120,9 @@ py::dict StatusDict(const multibody::SimulationStatus& st) {
 }
 
 /// One run, as `flexrod run INPUT --set ... [--out DIR] [--check] [--vtk DIR]` computes it
-/// (without the plots). {"ok", "status", "channels", "units", "summary", "impacts",
-/// "impact_units", "ideal": {"channels", "units", "summary"} or None}.
+/// (without the plots): its ensemble (run/ensemble.h), member 0's channels. {"ok", "status",
+/// "channels", "units", "summary", "impacts", "impact_units", "ideal": {"channels", "units",
+/// "summary"} or None}.
 py::dict RunInput(const std::string& input, const std::vector<std::string>& sets,
                   const std::optional<std::string>& out, bool check,
                   const std::optional<std::string>& vtk) {
@@ -134,7 +136,7 @@ py::dict RunInput(const std::string& input, const std::vector<std::string>& sets
     RunOutputOptions outputs;
     outputs.stop = stop;
     outputs.record_vtk = vtk.has_value();
-    RunResult r = RunSimulation(cfg, nullptr, false, outputs);
+    RunResult r = RunEnsemble(cfg, outputs);
     if (check_cfg && r.ok()) AddAccuracyCheck(*check_cfg, &r, stop);
     if (stop->load()) throw Interrupted("run interrupted");
     return r;

@@ -314,26 +314,89 @@ multibody::ConsistentState FindSteadyState(const SimOptions& sim, const Mechanis
   return state;
 }
 
+/// The largest |stress| over the gauges (channels stress_*) in each revolution [Pa]; empty
+/// without gauges.
+std::vector<double> GaugeStressPeaks(const study::TimeSeries& ts,
+                                     const std::vector<study::SampleRange>& revolutions) {
+  std::vector<double> peaks;
+  for (const study::Channel& c : ts.channels()) {
+    if (c.name.rfind("stress_", 0) != 0) continue;
+    peaks.resize(revolutions.size(), 0.0);
+    for (size_t k = 0; k < revolutions.size(); ++k) {
+      for (size_t i = revolutions[k].begin; i < revolutions[k].end; ++i)
+        peaks[k] = std::max(peaks[k], std::abs(c.values[i]));
+    }
+  }
+  return peaks;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::vector<double>>> PerRevolutionSeries(const RunResult& run) {
+  std::vector<std::pair<std::string, std::vector<double>>> s;
+  if (!run.slider_acceleration || !run.bearing_force) return s;
+  s.emplace_back("slider_acceleration_positive [m/s^2]", run.slider_acceleration->positive_peaks);
+  s.emplace_back("slider_acceleration_negative [m/s^2]", run.slider_acceleration->negative_peaks);
+  s.emplace_back("bearing_force [N]", run.bearing_force->positive_peaks);
+  if (!run.gauge_stress_peaks.empty()) s.emplace_back("gauge_stress [Pa]", run.gauge_stress_peaks);
+  return s;
+}
+
+namespace {
+
+/// The per-revolution series of a run, without their names.
+std::vector<std::vector<double>> WindowSeries(const RunResult& run) {
+  std::vector<std::vector<double>> v;
+  for (auto& [name, x] : PerRevolutionSeries(run)) v.push_back(std::move(x));
+  return v;
+}
+
+/// A crank's per-revolution statistics of the run's channels: the slider acceleration's and the
+/// bearing force's (one split into revolutions for both, and, through the twin's, the
+/// amplification), the gauge stress's peaks. Nothing for fewer than 3 samples.
+void SummariseRevolutions(double index_angle, RunResult* out) {
+  const study::TimeSeries& ts = out->channels;
+  if (ts.num_samples() <= 2) return;
+  const study::SampleRange all = ts.all();
+  const std::vector<study::SampleRange> revolutions =
+      study::SplitRevolutions(ts.values("crank_angle"), index_angle, all);
+  out->slider_acceleration =
+      study::CalcSignalSummary(ts.values("slider_acceleration"), all, revolutions);
+  out->bearing_force = study::CalcSignalSummary(ts.values("bearing_force"), all, revolutions);
+  out->gauge_stress_peaks = GaugeStressPeaks(ts, revolutions);
+}
+
 /// The summary of a finished run `out` (its channels, impacts and status set): per-revolution
 /// statistics of a crank's run, the channel summaries, the steady start, the impacts, the
 /// integrator's counters.
 void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel& mm,
                   const Recorder& rec, const nlohmann::json& gauges, const nlohmann::json& steady,
-                  study::ImpactLogger* impacts, bool profile,
+                  const nlohmann::json& steady_window, study::ImpactLogger* impacts, bool profile,
                   std::chrono::steady_clock::time_point wall0, RunResult* out_ptr) {
   const multibody::Mechanism& m = mm.mechanism;
   RunResult& out = *out_ptr;
-  if (mm.recipe->turns_a_crank() && out.channels.num_samples() > 2) {
-    // One split into revolutions for both channels (and, through the twin's, the amplification).
-    const study::SampleRange all = out.channels.all();
-    const std::vector<study::SampleRange> revolutions =
-        study::SplitRevolutions(out.channels.values("crank_angle"), sim.index_angle, all);
-    out.slider_acceleration =
-        study::CalcSignalSummary(out.channels.values("slider_acceleration"), all, revolutions);
-    out.bearing_force =
-        study::CalcSignalSummary(out.channels.values("bearing_force"), all, revolutions);
-  }
+  if (mm.recipe->turns_a_crank()) SummariseRevolutions(sim.index_angle, &out);
   out.summary = Summarise(out, rec, cfg, mm);
+  if (out.slider_acceleration) {
+    const study::WindowClassification w = study::ClassifyWindow(WindowSeries(out));
+    out.summary["regime"] = {
+        {"window", study::ToString(w.regime)}, {"period [revolutions]", w.period},
+        {"outlier_revolutions", w.outliers},   {"relative_spread", w.relative_spread},
+        {"zero_one_k", w.zero_one_k},          {"reason", w.reason}};
+  }
+  if (!steady_window.is_null()) {
+    out.summary["steady_window"] = steady_window;
+    if (!steady_window["stationary"].get<bool>()) {
+      out.summary["warnings"].push_back(
+          "sim.steady_window: the captured window is not stationary (" +
+          steady_window["worst_series"].get<std::string>() +
+          ": its first revolutions differ from the rest by more than " +
+          FormatValue(steady_window["worst_limit"].get<double>()) +
+          ") and the next window would start after sim.max_settle = " +
+          FormatValue(sim.max_settle) +
+          " s; the figures may carry a transient or an intermittent regime");
+    }
+  }
   out.summary["gauges"] = gauges;
   if (!steady.is_null()) {
     out.summary["steady_start"] = steady;
@@ -380,6 +443,17 @@ void SummariseRun(const Config& cfg, const SimOptions& sim, const MechanismModel
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 }
 
+/// One captured window of a run: its record, impact log and ParaView frames, the integrator's
+/// status, and (when asked) the state at its last solution point.
+struct Window {
+  Recorder rec;
+  nlohmann::json gauges;
+  std::optional<study::ImpactLogger> impacts;  // clearance runs: every located contact event
+  std::optional<study::VtkRecorder> vtk;
+  multibody::SimulationStatus status;
+  std::optional<multibody::ConsistentState> end;
+};
+
 /// A run of `mm`, built from `cfg` (BuildMechanism(cfg, rod, ideal_joint)), with `sim` from
 /// CheckRunInput(cfg, the run's mechanism); `wall0` is when its building began
 /// (sim.max_wall_time counts from there); `keep_channel`: RunOutputOptions::keep_channel.
@@ -392,82 +466,161 @@ RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bo
   multibody::InitialConditionSpec ic;
   multibody::SimulationOptions opt = RunOptions(sim, mm, wall0, profile, stop, &ic);
   const double capture = sim.capture;
-  Recorder rec;
-  nlohmann::json gauges;
-  std::optional<study::ImpactLogger> impacts;  // clearance runs: every located contact event
-  if (mm.clearance.index >= 0) impacts.emplace();
-  DefineChannels(cfg, mm, &rec, &gauges, impacts ? &*impacts : nullptr);
-  // Bad output.* keys fail before the run (checked on the real run: its twin has fewer channels).
-  if (!ideal_joint) (void)ReadOutputSelection(cfg, opt.sample_rate, &rec.names());
-  if (keep_channel) {
-    rec.KeepOnly([&](const std::string& name) {
-      return std::find(std::begin(kSummaryChannels), std::end(kSummaryChannels), name) !=
-                 std::end(kSummaryChannels) ||
-             keep_channel(name);
-    });
-  }
-  multibody::RunData data(m);
   const double rate = opt.sample_rate;
   const long max_samples = static_cast<long>(std::floor(capture * rate + 1e-9));
-  rec.Reserve(static_cast<size_t>(max_samples));
-  // ParaView frames ride on the same samples: capture sample k is offered before it is recorded.
-  std::optional<study::VtkRecorder> vtk;
-  if (vtk_options) vtk.emplace(cfg, mm, *vtk_options, rate);
-  multibody::SimulationCallbacks cb;
-  double t_last_sample = 0.0;
-  cb.on_sample = [&](const SampleView& s) {
-    if (static_cast<long>(rec.size()) < max_samples) {
-      if (vtk) vtk->Offer(static_cast<long>(rec.size()), s);
-      rec.Record(s);
-      t_last_sample = s.t();
+  // sim.steady_window: a crank's window is tested, and replaced by the next while it is not
+  // stationary; each window then keeps its end state.
+  const bool test_window =
+      sim.steady_window && sim.start != SimOptions::Start::kSteady && mm.recipe->turns_a_crank();
+  // The channels alone (no samples): bad output.* keys fail before any integration (checked on
+  // the real run: its twin has fewer channels); a run that captures nothing summarises these.
+  Recorder no_window;
+  nlohmann::json no_gauges;
+  DefineChannels(cfg, mm, &no_window, &no_gauges, nullptr);
+  if (!ideal_joint) (void)ReadOutputSelection(cfg, opt.sample_rate, &no_window.names());
+  const auto run_data = std::make_unique<multibody::RunData>(m);
+  // Integrates from `from` (the initial conditions if empty) with `o`, capturing one window.
+  auto capture_window = [&](const multibody::SimulationOptions& o,
+                            const std::optional<multibody::ConsistentState>& from) {
+    auto w = std::make_unique<Window>();
+    Recorder& rec = w->rec;
+    if (mm.clearance.index >= 0) w->impacts.emplace();
+    study::ImpactLogger* impacts = w->impacts ? &*w->impacts : nullptr;
+    DefineChannels(cfg, mm, &rec, &w->gauges, impacts);
+    if (keep_channel) {
+      // A crank's gauge stresses give the per-revolution peaks (PerRevolutionSeries).
+      const bool crank = mm.recipe->turns_a_crank();
+      rec.KeepOnly([&](const std::string& name) {
+        return std::find(std::begin(kSummaryChannels), std::end(kSummaryChannels), name) !=
+                   std::end(kSummaryChannels) ||
+               (crank && name.rfind("stress_", 0) == 0) || keep_channel(name);
+      });
     }
+    rec.Reserve(static_cast<size_t>(max_samples));
+    // ParaView frames ride on the same samples: capture sample k is offered before it is
+    // recorded.
+    if (vtk_options) w->vtk.emplace(cfg, mm, *vtk_options, rate);
+    multibody::SimulationCallbacks cb;
+    double t_last_sample = 0.0;
+    cb.on_sample = [&](const SampleView& sv) {
+      if (static_cast<long>(rec.size()) < max_samples) {
+        if (w->vtk) w->vtk->Offer(static_cast<long>(rec.size()), sv);
+        rec.Record(sv);
+        t_last_sample = sv.t();
+      }
+    };
+    // The joint at the end of the last step searched for peaks (the step's next reported point).
+    std::optional<multibody::ClearanceResponse> step_end;
+    double step_end_time = 0.0;
+    auto keep_end = [&](const SampleView& sv) {
+      multibody::ConsistentState& e = w->end.emplace();
+      e.t = sv.t();
+      e.y = Eigen::Map<const Vec>(sv.y(), m.size());
+      e.yp = Eigen::Map<const Vec>(sv.yp(), m.size());
+    };
+    if (impacts) {
+      // The impact log also sees every integrator step and located event of the capture window
+      // (from its first sample to its last); the samples reach it through the channels.
+      cb.on_step = [&,
+                    crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& sv) {
+        if (test_window) keep_end(sv);
+        const std::optional<multibody::ClearanceResponse> searched =
+            std::exchange(step_end, std::nullopt);
+        if (rec.size() == 0 ||
+            (static_cast<long>(rec.size()) >= max_samples && sv.t() > t_last_sample))
+          return;
+        impacts->Observe(
+            study::MakeContactPoint(sv.t(), sv.coordinate(crank_theta),
+                                    searched && step_end_time == sv.t()
+                                        ? *searched
+                                        : multibody::CalcClearanceResponse(sv, mm.clearance)));
+      };
+      // Inside an impact, the peak force and penetration are located within each step (its
+      // interpolating polynomial), not taken at the solution points, which can be 5e-4 low.
+      cb.on_step_interval = [&](const multibody::StepInterpolant& step) {
+        if (rec.size() == 0 ||
+            (static_cast<long>(rec.size()) >= max_samples && step.t_begin() >= t_last_sample))
+          return;
+        step_end = study::LocateImpactPeaks(step, mm.clearance, impacts);
+        step_end_time = step.t_end();
+      };
+    } else if (test_window) {
+      cb.on_step = keep_end;
+    }
+    multibody::RunData& data = *run_data;
+    w->status = from ? multibody::Simulate(m, &data, *from, o, cb)
+                     : multibody::Simulate(m, &data, ic, o, cb);
+    return w;
   };
-  // The joint at the end of the last step searched for peaks (the step's next reported point).
-  std::optional<multibody::ClearanceResponse> step_end;
-  double step_end_time = 0.0;
-  if (impacts) {
-    // The impact log also sees every integrator step and located event of the capture window
-    // (from its first sample to its last); the samples reach it through the channels.
-    cb.on_step = [&, crank_theta = m.coordinate(mm.crank, multibody::kTheta)](const SampleView& s) {
-      const std::optional<multibody::ClearanceResponse> searched =
-          std::exchange(step_end, std::nullopt);
-      if (rec.size() == 0 ||
-          (static_cast<long>(rec.size()) >= max_samples && s.t() > t_last_sample))
-        return;
-      impacts->Observe(study::MakeContactPoint(
-          s.t(), s.coordinate(crank_theta),
-          searched && step_end_time == s.t() ? *searched
-                                             : multibody::CalcClearanceResponse(s, mm.clearance)));
-    };
-    // Inside an impact, the peak force and penetration are located within each step (its
-    // interpolating polynomial), not taken at the solution points, which can be 5e-4 low.
-    cb.on_step_interval = [&](const multibody::StepInterpolant& step) {
-      if (rec.size() == 0 ||
-          (static_cast<long>(rec.size()) >= max_samples && step.t_begin() >= t_last_sample))
-        return;
-      step_end = study::LocateImpactPeaks(step, mm.clearance, &*impacts);
-      step_end_time = step.t_end();
-    };
-  }
 
   RunResult out;
   nlohmann::json steady;  // sim.start = steady: how the periodic state was found
+  std::unique_ptr<Window> w;
   if (sim.start == SimOptions::Start::kSteady) {
     const multibody::ConsistentState state =
-        FindSteadyState(sim, mm, opt, ic, &data, &out.status, &steady);
+        FindSteadyState(sim, mm, opt, ic, run_data.get(), &out.status, &steady);
     if (out.status.ok()) {
       opt.sample_start = state.t;
       opt.t_end = state.t + capture;
       opt.start_sampling_at_index = false;
-      out.status = multibody::Simulate(m, &data, state, opt, cb);
+      w = capture_window(opt, state);
     }
   } else {
-    out.status = multibody::Simulate(m, &data, ic, opt, cb);
+    w = capture_window(opt, std::nullopt);
   }
-  out.channels = rec.Finish(rate);
-  if (vtk) out.vtk = vtk->Finish();
-  SummariseRun(cfg, sim, mm, rec, gauges, steady, impacts ? &*impacts : nullptr, profile, wall0,
-               &out);
+  nlohmann::json steady_window;  // sim.steady_window: the stationarity test of the window
+  if (w) {
+    out.channels = w->rec.Finish(rate);
+    out.status = w->status;
+  }
+  for (int windows = 1; w && test_window; ++windows) {
+    // The window's per-revolution peaks, as the summary will take them.
+    SummariseRevolutions(sim.index_angle, &out);
+    const auto series = PerRevolutionSeries(out);
+    const study::StationarityVerdict verdict = study::TestStationarity(WindowSeries(out));
+    steady_window = {{"stationary", verdict.stationary},
+                     {"windows", windows},
+                     {"capture_start [s]", out.channels.start_time()},
+                     {"max_settle [s]", sim.max_settle},
+                     {"revolutions", series.empty() ? 0 : series.front().second.size()},
+                     {"tested", verdict.worst >= 0},
+                     {"alpha", 0.01},
+                     {"floor", study::kStationarityFloor}};
+    for (size_t k = 0; k < series.size(); ++k) {
+      const study::StationarityResult& r = verdict.series[k];
+      steady_window["series"][series[k].first] = {{"leading_revolutions (0: trend)", r.leading},
+                                                  {"leading_mean", r.first_mean},
+                                                  {"rest_mean", r.second_mean},
+                                                  {"limit", r.limit},
+                                                  {"stationary", r.stationary}};
+    }
+    if (verdict.worst >= 0) {
+      steady_window["worst_series"] = series[static_cast<size_t>(verdict.worst)].first;
+      steady_window["worst_limit"] = verdict.series[static_cast<size_t>(verdict.worst)].limit;
+    }
+    if (verdict.stationary || !out.status.ok() || !w->end) break;
+    // The next window: this one becomes settling.
+    SimOptions next_sim = sim;
+    next_sim.settle = w->end->t;
+    multibody::InitialConditionSpec unused;
+    multibody::SimulationOptions next = RunOptions(next_sim, mm, wall0, profile, stop, &unused);
+    const double next_start = next.start_sampling_at_index ? w->end->t : next.sample_start;
+    if (next_start > sim.max_settle) break;
+    next.t_start = w->end->t;
+    std::unique_ptr<Window> later = capture_window(next, *w->end);
+    w = std::move(later);
+    out.channels = w->rec.Finish(rate);
+    out.status = w->status;
+  }
+  if (w) {
+    if (w->vtk) out.vtk = w->vtk->Finish();
+    SummariseRun(cfg, sim, mm, w->rec, w->gauges, steady, steady_window,
+                 w->impacts ? &*w->impacts : nullptr, profile, wall0, &out);
+  } else {
+    out.channels = no_window.Finish(rate);
+    SummariseRun(cfg, sim, mm, no_window, no_gauges, steady, steady_window, nullptr, profile, wall0,
+                 &out);
+  }
   if (model_out) *model_out = std::move(mm);
   return out;
 }
@@ -486,13 +639,15 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
   const bool needs_twin = built.clearance.index >= 0 && built.recipe->turns_a_crank();
   const SimOptions sim = CheckRunInput(cfg, built);  // a bad input starts no run and no twin
   // A twin shared through the cache keeps every channel: other runs read it.
-  auto run_twin = [cfg, sim, stop = outputs.stop,
+  const Config& twin_cfg = outputs.twin_input ? *outputs.twin_input : cfg;
+  const SimOptions twin_sim = outputs.twin_input ? ReadSimOptions(twin_cfg) : sim;
+  auto run_twin = [twin_cfg, twin_sim, stop = outputs.stop,
                    keep = outputs.twins ? nullptr : outputs.keep_channel](
                       std::shared_ptr<const fem::ReducedRod> twin_rod) {
     const auto twin_wall0 = std::chrono::steady_clock::now();
     return std::make_shared<const RunResult>(
-        RunOne(cfg, sim, BuildMechanism(cfg, std::move(twin_rod), true), true, twin_wall0, nullptr,
-               nullptr, false, stop, keep));
+        RunOne(twin_cfg, twin_sim, BuildMechanism(twin_cfg, std::move(twin_rod), true), true,
+               twin_wall0, nullptr, nullptr, false, stop, keep));
   };
   std::future<std::shared_ptr<const RunResult>> twin_beside;
   if (needs_twin && outputs.twins == nullptr && std::thread::hardware_concurrency() > 1)
@@ -509,7 +664,7 @@ RunResult RunSimulation(const Config& cfg, std::shared_ptr<const fem::ReducedRod
     return run_twin(mm.rod);
   };
   const std::shared_ptr<const RunResult> twin =
-      outputs.twins ? outputs.twins->Get(cfg, compute_twin) : compute_twin();
+      outputs.twins ? outputs.twins->Get(twin_cfg, compute_twin) : compute_twin();
   out.summary["ideal"] = twin->summary;
   out.summary["ideal"]["reused"] = !computed;
   if (twin->ok() && twin->channels.num_samples() == out.channels.num_samples() &&

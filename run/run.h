@@ -21,6 +21,7 @@
 #include "mechanisms/impact_log.h"
 #include "mechanisms/mechanism_model.h"
 #include "multibody/simulate.h"
+#include "signals/regimes.h"
 #include "signals/signals.h"
 #include "signals/timeseries.h"
 
@@ -37,10 +38,19 @@ struct RunResult {
   /// Slider-cranks: slider_acceleration and bearing_force over the capture and its complete
   /// revolutions (summary "slider_acceleration"; the load amplification's inputs).
   std::optional<study::SignalSummary> slider_acceleration, bearing_force;
+  /// Slider-cranks with a gauged rod: the largest |stress| over the gauges in each complete
+  /// revolution of the capture, in time order [Pa].
+  std::vector<double> gauge_stress_peaks;
   std::vector<study::Impact> impacts;   ///< impact log of the captured window (clearance runs)
   std::optional<study::VtkSeries> vtk;  ///< ParaView frames of the captured window, if requested
   bool ok() const { return status.ok(); }
 };
+
+/// The per-revolution series of a crank's run (one value per complete revolution of the
+/// capture, in time order), named with their units: the slider acceleration's positive and
+/// negative peaks (magnitudes), the bearing force's peak, the gauge stress's (with gauges).
+/// Empty for a run without slider-crank channels.
+std::vector<std::pair<std::string, std::vector<double>>> PerRevolutionSeries(const RunResult& run);
 
 /// Checks every input a run of `mm` (BuildMechanism(cfg, ...)) reads beyond the mechanism's
 /// own keys: sim.* (tolerances, settle, a capture of at least 2 samples, the start), the probe
@@ -90,6 +100,9 @@ struct RunOutputOptions {
   /// Share the ideal-joint twin with the other runs using this cache (nullptr: compute it).
   /// summary["ideal"]["reused"] says whether the twin came from an earlier run.
   TwinCache* twins{nullptr};
+  /// The input whose ideal-joint twin this run shares (through `twins`, keyed by its TwinKey):
+  /// an ensemble's members share member 0's (run/ensemble.h). nullptr: the run's own input.
+  const Config* twin_input{nullptr};
   /// Polled by the integrator (multibody::SimulationOptions::stop), also in the ideal-joint
   /// twin: once true, the run stops with outcome kInterrupted. nullptr: never stops.
   const std::atomic<bool>* stop{nullptr};

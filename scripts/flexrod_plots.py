@@ -9,6 +9,7 @@
 Every PNG is written to a temporary name and renamed, so no half-written plot is left.
 """
 import csv
+import json
 import math
 import os
 import sys
@@ -124,6 +125,27 @@ def plot_run(directory):
         raise RuntimeError("plotting the rod and the joint failed")
 
 
+def regime_title(directory):
+    """The run's regime (summary.json: its window's, its ensemble's steady states and interval),
+    one line for a plot's title; "" without a summary or a regime."""
+    try:
+        with open(os.path.join(directory, "summary.json"), encoding="utf-8") as f:
+            s = json.load(f)
+    except (OSError, ValueError):
+        return ""
+    parts = []
+    if "regime" in s:
+        parts.append("window: " + s["regime"]["window"])
+    e = s.get("ensemble", {})
+    if "regime" in e:
+        parts.append("ensemble of %d: %s" % (e["members"], e["regime"]["label"].split(";")[0]))
+        f = e.get("figures", {}).get("slider_acceleration_positive_p95")
+        if f and "interval" in f:
+            parts.append("amplification p95 +%.3g [%.3g, %.3g]" %
+                         (f["centre"], f["interval"][0], f["interval"][1]))
+    return "; ".join(parts)
+
+
 def plot_run_slider(directory):
     """Slider acceleration against the ideal twin, its spectrum, the Poincare map."""
     need = ("crank_angle [rad]", "slider_acceleration [m/s^2]")
@@ -143,6 +165,9 @@ def plot_run_slider(directory):
         ax.legend()
     ax.set_xlabel("crank angle [deg]")
     ax.set_ylabel("slider acceleration [m/s^2] (range over the revolutions)")
+    title = regime_title(directory)
+    if title:
+        ax.set_title(title, fontsize=9)
     ax.set_xlim(0, 360)
     ax.grid(True, alpha=0.3)
     save(fig, os.path.join(directory, "slider_acceleration.png"))

@@ -308,6 +308,8 @@ SignalSummary CalcSignalSummary(std::span<const double> x, SampleRange range,
     peaks_of(revolutions[k], &pos[k], &neg[k]);
     mag[k] = std::max(pos[k], neg[k]);
   }
+  s.positive_peaks = pos;
+  s.negative_peaks = neg;
   s.magnitude = StatisticsOf(&mag);
   s.positive = StatisticsOf(&pos);
   s.negative = StatisticsOf(&neg);

@@ -172,6 +172,8 @@ struct SignalSummary {
   PeakStatistics positive;    ///< of the per-revolution positive peaks
   PeakStatistics negative;    ///< of the per-revolution negative peaks (magnitudes)
   PeakStatistics magnitude;   ///< of the per-revolution peaks of |x| (the larger of the two)
+  /// The per-revolution peaks themselves, in time order (one per complete revolution) [unit].
+  std::vector<double> positive_peaks, negative_peaks;
 };
 
 /// InputError if the spans differ in length or the range is bad.
