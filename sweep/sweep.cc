@@ -83,8 +83,11 @@ StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, Twi
   StoredRun out;
   try {
     const std::shared_ptr<const fem::ReducedRod> rod = rods->Get(cfg);
+    // An ensemble's members share the twin of the case's member 0.
+    const Config twin_cfg = matrix.ConfigFor(matrix.runs[id].case_id);
     RunOutputOptions outputs;
     outputs.twins = twins;
+    outputs.twin_input = &twin_cfg;
     outputs.stop = stop;
     const RunResult result = RunSimulation(cfg, rod, false, outputs);
     if (stop != nullptr && stop->load()) throw Interrupted("sweep interrupted");
@@ -259,7 +262,8 @@ std::vector<int> TwinOrder(const SweepMatrix& matrix, const std::vector<int>& id
   std::map<std::string, std::size_t> group_of;
   std::vector<std::vector<int>> groups;
   for (int id : ids) {
-    const auto [it, added] = group_of.emplace(TwinKey(matrix.ConfigFor(id)), groups.size());
+    const auto [it, added] =
+        group_of.emplace(TwinKey(matrix.ConfigFor(matrix.runs[id].case_id)), groups.size());
     if (added) groups.emplace_back();
     groups[it->second].push_back(id);
   }

@@ -55,7 +55,8 @@ StoredRun ComputeSweepRun(const SweepMatrix& matrix, int id, RodCache* rods, Twi
 
 /// `ids` in the order to compute them on `jobs` threads so that a TwinCache of `jobs` twins
 /// computes each ideal-joint twin once and no thread waits for another's twin: runs that share
-/// a twin (TwinKey: they differ only in joint.* keys) form groups, in the order of their first
+/// a twin (TwinKey of their case's member 0: they differ only in joint.* keys or are members of
+/// one ensemble) form groups, in the order of their first
 /// run; blocks of `jobs` groups are taken in turn, one run of each group of the block at a time
 /// (so the runs computed at the same moment have different twins). With one job, each group's
 /// runs are adjacent. The store does not depend on the order (it is assembled in run-id order).

@@ -79,6 +79,9 @@ void AddAccelerationSummary(const RunResult& run, double index_angle, StoredRun*
   };
   Add(out, "amplification_bearing_force", ratio("bearing_force"), "1");
   Add(out, "amplification_bearing_force_p95", ratio("bearing_force_p95"), "1");
+  // The gauge stress's per-revolution peaks (the run's largest |stress| over its gauges).
+  Add(out, "gauge_stress_p95",
+      run.gauge_stress_peaks.empty() ? kNaN : Percentile(run.gauge_stress_peaks, 95.0), "Pa");
 }
 
 /// The Poincaré section at the crank index of store.poincare_channels, with each channel's

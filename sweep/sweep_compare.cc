@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -98,6 +100,12 @@ std::string ClearanceText(const ComparisonDef& d) {
   for (const ComparisonItem& i : d.items) c = i.clearance;
   if (d.group == "III") return "0.5 vs 1.0 mm";
   return Num(c * 1e3) + " mm";
+}
+
+std::string SpeedsText(const std::vector<double>& speeds) {
+  std::string s;
+  for (double sp : speeds) s += (s.empty() ? "" : ", ") + Num(sp * kRpm);
+  return s + " rpm";
 }
 
 std::string OrderText(const std::vector<ItemResult>& items, const std::vector<int>& order) {
@@ -274,7 +282,7 @@ namespace {
 /// failures; `by_speed` receives the |a| of its points per crank speed for the bootstrap.
 ItemResult CollectItem(const ComparisonItem& item, bool positive,
                        const std::vector<StoredRun>& runs, const std::vector<RunFacts>& facts,
-                       BySpeed* by_speed_out) {
+                       const std::set<double>& speeds, BySpeed* by_speed_out) {
   BySpeed& by_speed = *by_speed_out;
   ItemResult ir;
   ir.item = item;
@@ -285,6 +293,7 @@ ItemResult CollectItem(const ComparisonItem& item, bool positive,
       ++ir.num_failed;
       continue;
     }
+    if (!speeds.count(facts[r].speed)) continue;  // not a speed every item has
     ++ir.num_runs;
     const StoredPoints& p = positive ? runs[r].positive : runs[r].negative;
     for (std::size_t k = 0; k < p.value.size(); ++k) {
@@ -336,7 +345,17 @@ std::string ResolveRanking(const std::vector<BySpeed>& by_speed_of_item, Compari
 std::string VerdictLine(const ComparisonResult& res, const std::vector<int>& expected,
                         const std::string& overlap) {
   const ComparisonDef& def = res.def;
-  std::string line = "Thesis trend: " + def.trend + ". Thesis: " + def.thesis_note + ". Model: ";
+  std::string line = "Thesis trend: " + def.trend + ". Thesis: " + def.thesis_note + ". ";
+  line += "Loads at the " + std::to_string(res.common_speeds.size()) +
+          " speeds every rod has (two-level bootstrap over speeds and runs): ";
+  for (std::size_t k = 0; k < res.loads.size(); ++k) {
+    const LoadVerdict& v = res.loads[k];
+    line += (k ? "; " : "") + v.metric + " " + v.verdict +
+            (v.detail.empty() ? "" : " (" + v.detail + ")");
+  }
+  if (!res.excluded_speeds.empty())
+    line += "; excluded speeds (not run for every rod): " + SpeedsText(res.excluded_speeds);
+  line += ". Ripple (median |a| at the turning points, the thesis's metric): ";
   if (!res.evaluable) {
     line += "not evaluable (fewer than two of its rods have turning points in this store).";
   } else if (!res.resolved) {
@@ -358,7 +377,146 @@ std::string VerdictLine(const ComparisonResult& res, const std::vector<int>& exp
   return line;
 }
 
+/// The speeds of the completed runs of each item; `common` receives those every item with runs
+/// has, `excluded` the others.
+void CommonSpeeds(const ComparisonDef& def, const std::vector<StoredRun>& runs,
+                  const std::vector<RunFacts>& facts, std::set<double>* common,
+                  std::vector<double>* excluded) {
+  std::set<double> all;
+  bool first = true;
+  for (const ComparisonItem& item : def.items) {
+    std::set<double> mine;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      if (runs[r].ok() && Matches(item, facts[r])) mine.insert(facts[r].speed);
+    }
+    if (mine.empty()) continue;  // an item without runs constrains nothing
+    all.insert(mine.begin(), mine.end());
+    if (first) {
+      *common = mine;
+      first = false;
+    } else {
+      std::set<double> both;
+      std::set_intersection(common->begin(), common->end(), mine.begin(), mine.end(),
+                            std::inserter(both, both.begin()));
+      *common = both;
+    }
+  }
+  for (double sp : all) {
+    if (!common->count(sp)) excluded->push_back(sp);
+  }
+}
+
+/// A run's value of a load metric (LoadMetrics()), NaN if it has none.
+double MetricOf(const StoredRun& run, const std::string& metric, bool positive) {
+  if (metric == "amplification_p95")
+    return run.Summary(positive ? "amplification_positive_p95" : "amplification_negative_p95");
+  return run.Summary(metric);
+}
+
+constexpr int kLoadDraws = 2000;
+
+/// The load metric `metric` of a comparison's items at the common speeds (LoadVerdict).
+LoadVerdict JudgeLoad(const ComparisonResult& res, const std::string& metric,
+                      const std::vector<StoredRun>& runs, const std::vector<RunFacts>& facts,
+                      const std::set<double>& common) {
+  LoadVerdict v;
+  v.metric = metric;
+  v.unit = metric == "gauge_stress_p95" ? "Pa" : "1";
+  const std::size_t n = res.def.items.size();
+  const std::vector<double> speeds(common.begin(), common.end());
+  // values[i][s]: the metric of item i's runs at speed s.
+  std::vector<std::vector<std::vector<double>>> values(
+      n, std::vector<std::vector<double>>(speeds.size()));
+  std::vector<bool> has(n, !speeds.empty());
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      if (!runs[r].ok() || !Matches(res.def.items[i], facts[r])) continue;
+      const auto it = std::find(speeds.begin(), speeds.end(), facts[r].speed);
+      const double x = MetricOf(runs[r], metric, res.def.positive);
+      if (it != speeds.end() && std::isfinite(x))
+        values[i][static_cast<std::size_t>(it - speeds.begin())].push_back(x);
+    }
+    for (const std::vector<double>& at : values[i]) has[i] = has[i] && !at.empty();
+  }
+  auto mean = [](const std::vector<double>& x) {
+    double s = 0.0;
+    for (double e : x) s += e;
+    return s / static_cast<double>(x.size());
+  };
+  v.value.assign(n, kNaN);
+  v.low.assign(n, kNaN);
+  v.high.assign(n, kNaN);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!has[i]) continue;
+    std::vector<double> per_speed;
+    for (const std::vector<double>& at : values[i]) per_speed.push_back(mean(at));
+    v.value[i] = mean(per_speed);
+    v.ranking.push_back(static_cast<int>(i));
+  }
+  std::stable_sort(v.ranking.begin(), v.ranking.end(), [&](int a, int b) {
+    return v.value[static_cast<std::size_t>(a)] > v.value[static_cast<std::size_t>(b)];
+  });
+  std::vector<int> expected;
+  for (int i : res.def.expected_order) {
+    if (has[static_cast<std::size_t>(i)]) expected.push_back(i);
+  }
+  if (expected.size() < 2) {
+    v.verdict = "not evaluable";
+    return v;
+  }
+  std::mt19937_64 gen(kBootstrapSeed);
+  std::uniform_int_distribution<std::size_t> pick(0, speeds.size() - 1);
+  std::vector<std::vector<double>> draws(n), gaps(expected.size() - 1);
+  std::vector<double> item(n);
+  for (int d = 0; d < kLoadDraws; ++d) {
+    std::vector<std::size_t> drawn(speeds.size());
+    for (std::size_t& s : drawn) s = pick(gen);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!has[i]) continue;
+      double total = 0.0;
+      for (std::size_t s : drawn) {
+        const std::vector<double>& at = values[i][s];
+        std::uniform_int_distribution<std::size_t> member(0, at.size() - 1);
+        double m = 0.0;
+        for (std::size_t k = 0; k < at.size(); ++k) m += at[member(gen)];
+        total += m / static_cast<double>(at.size());
+      }
+      item[i] = total / static_cast<double>(drawn.size());
+      draws[i].push_back(item[i]);
+    }
+    for (std::size_t k = 0; k + 1 < expected.size(); ++k)
+      gaps[k].push_back(item[static_cast<std::size_t>(expected[k])] -
+                        item[static_cast<std::size_t>(expected[k + 1])]);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!has[i]) continue;
+    std::sort(draws[i].begin(), draws[i].end());
+    v.low[i] = PercentileOfSorted(draws[i], 2.5);
+    v.high[i] = PercentileOfSorted(draws[i], 97.5);
+  }
+  bool all_above = true, any_below = false;
+  for (std::size_t k = 0; k < gaps.size(); ++k) {
+    std::sort(gaps[k].begin(), gaps[k].end());
+    const double lo = PercentileOfSorted(gaps[k], 2.5), hi = PercentileOfSorted(gaps[k], 97.5);
+    all_above = all_above && lo > 0.0;
+    any_below = any_below || hi < 0.0;
+    const std::size_t a = static_cast<std::size_t>(expected[k]),
+                      b = static_cast<std::size_t>(expected[k + 1]);
+    v.detail += std::string(v.detail.empty() ? "" : "; ") + res.def.items[a].label + " − " +
+                res.def.items[b].label +
+                Format(" = %.3g [%.3g, %.3g]", v.value[a] - v.value[b], lo, hi);
+  }
+  v.verdict = all_above ? "holds" : any_below ? "reversed" : "not resolved";
+  return v;
+}
+
 }  // namespace
+
+const std::vector<std::string>& LoadMetrics() {
+  static const std::vector<std::string> metrics = {
+      "amplification_p95", "amplification_bearing_force_p95", "gauge_stress_p95"};
+  return metrics;
+}
 
 std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& defs,
                                              const std::vector<StoredRun>& runs) {
@@ -369,11 +527,16 @@ std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& d
   for (const ComparisonDef& def : defs) {
     ComparisonResult res;
     res.def = def;
+    std::set<double> common;
+    CommonSpeeds(def, runs, facts, &common, &res.excluded_speeds);
+    res.common_speeds.assign(common.begin(), common.end());
     std::vector<BySpeed> by_speed_of_item;
     for (const ComparisonItem& item : def.items) {
       res.items.push_back(
-          CollectItem(item, def.positive, runs, facts, &by_speed_of_item.emplace_back()));
+          CollectItem(item, def.positive, runs, facts, common, &by_speed_of_item.emplace_back()));
     }
+    for (const std::string& metric : LoadMetrics())
+      res.loads.push_back(JudgeLoad(res, metric, runs, facts, common));
     res.ranking = RankBy(res.items, &ItemResult::median);
     const std::vector<int> by_p95 = RankBy(res.items, &ItemResult::p95);
     std::vector<int> expected;
@@ -410,15 +573,41 @@ void WriteComparisonFiles(const ComparisonResult& res, const std::string& dir) {
   std::ostringstream md, csv, pts;
   md << "# Comparison " << d.number << " — group " << d.group << ", clearance " << ClearanceText(d)
      << ", " << Direction(d) << " points\n\n";
-  md << "Turning points of the slider acceleration beyond the noise floor, agglomerated over all "
-        "speeds; "
-        "rods ranked by the median of |acceleration| at those points.\n\n";
+  md << "Rods ranked by their loads at the speeds every rod was run at ("
+     << SpeedsText(res.common_speeds)
+     << "): the load amplification (95th percentile of the per-revolution peaks, " << Direction(d)
+     << " direction), the bearing-force amplification and the gauge stress (95th percentiles of "
+        "the per-revolution peaks), each the mean over those speeds of the mean over the runs "
+        "(ensemble members) at a speed, with a 95 % interval from a two-level bootstrap (speeds, "
+        "then runs). The thesis's measure, the median |acceleration| at the turning points "
+        "beyond the noise floor, follows as the ripple of the acceleration.\n\n";
   md << res.verdict << "\n\n";
+  md << "| rod |";
+  for (const LoadVerdict& v : res.loads) md << " " << v.metric << " [" << v.unit << "] |";
+  md << "\n|---|";
+  for (std::size_t k = 0; k < res.loads.size(); ++k) md << "---|";
+  md << "\n";
+  for (std::size_t i = 0; i < res.items.size(); ++i) {
+    md << "| " << res.items[i].item.label << " |";
+    for (const LoadVerdict& v : res.loads)
+      md << " " << Num(v.value[i]) << " [" << Num(v.low[i]) << ", " << Num(v.high[i]) << "] |";
+    md << "\n";
+  }
+  md << "\n| verdict |";
+  for (const LoadVerdict& v : res.loads) md << " " << v.verdict << " |";
+  md << "\n|---|";
+  for (std::size_t k = 0; k < res.loads.size(); ++k) md << "---|";
+  md << "\n\nRipple: turning points at the common speeds.\n\n";
   md << "| rank | rod | runs | failed | points | median \\|a\\| [m/s^2] | its 95 % interval "
         "[m/s^2] | p95 \\|a\\| [m/s^2] | max \\|a\\| [m/s^2] | "
         "rank by p95 | rank by max |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   csv << "rank,item,runs,failed,points,median [m/s^2],median_low [m/s^2],median_high [m/s^2],"
-         "p95 [m/s^2],max [m/s^2],rank_p95,rank_max\n";
+         "p95 [m/s^2],max [m/s^2],rank_p95,rank_max";
+  for (const LoadVerdict& v : res.loads) {
+    csv << "," << v.metric << " [" << v.unit << "]," << v.metric << "_low [" << v.unit << "],"
+        << v.metric << "_high [" << v.unit << "]";
+  }
+  csv << "\n";
   for (int i : rows) {
     const ItemResult& it = res.items[static_cast<std::size_t>(i)];
     const std::string rank = rank_of(res.ranking, i);
@@ -429,7 +618,11 @@ void WriteComparisonFiles(const ComparisonResult& res, const std::string& dir) {
     csv << rank << "," << CsvField(it.item.label) << "," << it.num_runs << "," << it.num_failed
         << "," << it.points.size() << "," << Num(it.median) << "," << Num(it.median_low) << ","
         << Num(it.median_high) << "," << Num(it.p95) << "," << Num(it.max) << ","
-        << rank_of(by_p95, i) << "," << rank_of(by_max, i) << "\n";
+        << rank_of(by_p95, i) << "," << rank_of(by_max, i);
+    const std::size_t ui = static_cast<std::size_t>(i);
+    for (const LoadVerdict& v : res.loads)
+      csv << "," << Num(v.value[ui]) << "," << Num(v.low[ui]) << "," << Num(v.high[ui]);
+    csv << "\n";
   }
   pts << "item,run_id,speed [rpm],crank_angle [deg],acceleration [m/s^2]\n";
   pts.precision(10);
@@ -449,11 +642,18 @@ void WriteComparisonIndex(const std::vector<ComparisonResult>& results, const st
   std::ostringstream md;
   md << "# Comparisons of " << store
      << "\n\nThe thesis's comparison groups (RIG.md §4, Tables 3–5). "
-     << "Each line: the trend the thesis reports and whether the model shows it (median of "
-        "|acceleration| "
-        "at the turning points).\n\n| # | group | clearance | points | rods | model "
-        "|\n|---|---|---|---|---|---|\n";
+     << "Each line: the trend the thesis reports and whether the model shows it, by each load "
+        "metric at the speeds every rod was run at (holds / reversed / not resolved: the 95 % "
+        "interval of every difference in the expected order is above 0, one is below 0, or "
+        "neither; two-level bootstrap over speeds and runs), and by the thesis's ripple measure "
+        "(median |acceleration| at the turning points).\n\n| # | group | clearance | points | "
+        "rods |";
+  for (const std::string& m : LoadMetrics()) md << " " << m << " |";
+  md << " ripple |\n|---|---|---|---|---|";
+  for (std::size_t k = 0; k < LoadMetrics().size(); ++k) md << "---|";
+  md << "---|\n";
   int holds = 0, evaluable = 0, resolved = 0;
+  std::map<std::string, std::map<std::string, int>> load_counts;  // metric → verdict → count
   for (const ComparisonResult& r : results) {
     std::string rods;
     for (const ComparisonItem& i : r.def.items) rods += (rods.empty() ? "" : ", ") + i.label;
@@ -462,13 +662,25 @@ void WriteComparisonIndex(const std::vector<ComparisonResult>& results, const st
                               : r.trend_holds ? "trend holds"
                                               : "trend does not hold";
     md << "| [" << r.def.number << "](comparison_" << Two(r.def.number) << ".md) | " << r.def.group
-       << " | " << ClearanceText(r.def) << " | " << Direction(r.def) << " | " << rods << " | "
-       << model << " |\n";
+       << " | " << ClearanceText(r.def) << " | " << Direction(r.def) << " | " << rods << " |";
+    for (const LoadVerdict& v : r.loads) {
+      md << " " << v.verdict << " |";
+      ++load_counts[v.metric][v.verdict];
+    }
+    md << " " << model << " |\n";
     evaluable += r.evaluable ? 1 : 0;
     resolved += r.resolved ? 1 : 0;
     holds += r.resolved && r.trend_holds ? 1 : 0;
   }
-  md << "\nThe trend holds in " << holds << " of " << resolved << " resolved comparisons; "
+  md << "\n";
+  for (const std::string& m : LoadMetrics()) {
+    std::string counts;
+    for (const char* verdict : {"holds", "reversed", "not resolved", "not evaluable"})
+      counts += (counts.empty() ? "" : ", ") + std::string(verdict) + " " +
+                std::to_string(load_counts[m][verdict]);
+    md << "- " << m << ": " << counts << "\n";
+  }
+  md << "\nRipple: the trend holds in " << holds << " of " << resolved << " resolved comparisons; "
      << evaluable - resolved << " of the " << evaluable
      << " evaluable ones are not resolved (the 95 % interval of a difference of medians "
         "includes 0: the runs cannot order those rods).\n\n";

@@ -63,8 +63,36 @@ struct ItemResult {
   double max{0.0};  ///< [m/s^2]; NaN without points
 };
 
+/// One load metric of a comparison (what the trend is about: the loads, DESIGN.md), at the
+/// speeds every item of the comparison has completed runs at. A run's metric is a figure of its
+/// summary: "amplification_p95" (amplification_positive_p95 or amplification_negative_p95, the
+/// comparison's direction), "amplification_bearing_force_p95", "gauge_stress_p95" [Pa]. An
+/// item's value is the mean over the common speeds of the mean over its runs at that speed (an
+/// ensemble's members; group III: every rod's). Its interval and the verdict come from a
+/// two-level bootstrap (2000 draws, fixed seed): the speeds drawn with replacement (paired
+/// across the items: a speed moves every rod alike), then, for each item and drawn speed, its
+/// runs there drawn with replacement.
+struct LoadVerdict {
+  std::string metric;                    ///< the summary figure, as above
+  std::string unit;                      ///< "1" or "Pa"
+  std::vector<double> value, low, high;  ///< per item [unit]; NaN without runs
+  std::vector<int> ranking;              ///< items with a value, by value descending
+  /// "holds": the 95 % interval of every difference of items adjacent in the expected order
+  /// lies above 0; "reversed": one lies below 0; "not resolved": otherwise; "not evaluable":
+  /// fewer than two items with a value.
+  std::string verdict;
+  std::string detail;  ///< the differences with their intervals, in the expected order
+};
+
+/// The load metrics, in the order a comparison reports them.
+const std::vector<std::string>& LoadMetrics();
+
 struct ComparisonResult {
   ComparisonDef def;
+  /// Speeds [rad/s] at which every item with runs has a completed run: the only ones compared
+  /// (turning points included); the others, excluded.
+  std::vector<double> common_speeds, excluded_speeds;
+  std::vector<LoadVerdict> loads;  ///< one per LoadMetrics(), in that order
   std::vector<ItemResult> items;
   std::vector<int> ranking;  ///< item indices with points, by median descending
   bool evaluable{false};     ///< at least two items have points
@@ -77,13 +105,15 @@ struct ComparisonResult {
   bool resolved{false};
   std::vector<double> gap_low;  ///< per adjacent pair of `ranking`: 2.5 % of the difference [m/s^2]
   bool trend_holds_p95{false};  ///< same with the 95th percentiles
-  /// "Thesis trend: ... Model: holds (median and p95)." — one line for the report.
+  /// "Thesis trend: ... Loads: ... Ripple (turning points): ..." — one line for the report.
   std::string verdict;
 };
 
-/// Agglomerates the store's completed runs for each comparison. A run matches an item by
-/// rod.material, rod.height (within 1 µm) and joint.clearance (within 0.1 µm) of its resolved
-/// input; a run without a clearance joint matches no item.
+/// Agglomerates the store's completed runs for each comparison, at the speeds common to its
+/// items (ComparisonResult::common_speeds), and ranks its items by the load metrics (LoadVerdict)
+/// and by the thesis's turning-point median (the ripple of the acceleration, kept as one column).
+/// A run matches an item by rod.material, rod.height (within 1 µm) and joint.clearance (within
+/// 0.1 µm) of its resolved input; a run without a clearance joint matches no item.
 std::vector<ComparisonResult> RunComparisons(const std::vector<ComparisonDef>& defs,
                                              const std::vector<StoredRun>& runs);
 

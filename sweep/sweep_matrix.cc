@@ -18,6 +18,7 @@
 #include "common/error.h"
 #include "input/presets.h"
 #include "input/toml_value.h"
+#include "run/ensemble.h"
 
 namespace flexrod::study {
 namespace {
@@ -498,6 +499,38 @@ void Expand(const std::vector<Axis>& global, const std::vector<std::vector<Axis>
   }
 }
 
+/// A case whose ensemble.members is N > 1 becomes N runs, adjacent, member k with its start
+/// (EnsembleMemberSettings); the keys members set may not be axes.
+void ExpandEnsembles(SweepMatrix* m) {
+  std::vector<SweepRun> runs;
+  for (const SweepRun& c : m->runs) {
+    const Config cfg = m->ConfigFor(c.id);
+    const EnsembleOptions options = ReadEnsembleOptions(cfg);
+    const int members = EnsembleMembers(options, false);
+    const int case_id = static_cast<int>(runs.size());
+    for (int k = 0; k < members; ++k) {
+      SweepRun run = c;
+      run.id = static_cast<int>(runs.size());
+      run.member = k;
+      run.case_id = case_id;
+      for (auto& [key, value] : EnsembleMemberSettings(cfg, options, members, k)) {
+        if (std::find(m->axis_keys.begin(), m->axis_keys.end(), key) != m->axis_keys.end()) {
+          throw InputError(key, "(an axis)",
+                           "ensemble.members = " + std::to_string(members) +
+                               " sets it for each member; leave it out of the axes");
+        }
+        run.values.push_back({key, value});
+      }
+      runs.push_back(std::move(run));
+      if (runs.size() > kMaxRuns) {
+        throw InputError(m->origin, std::to_string(runs.size()) + " runs",
+                         "more than 10^6 runs in one matrix (ensemble members included)");
+      }
+    }
+  }
+  m->runs = std::move(runs);
+}
+
 /// Every run must resolve, and no two runs may be the same run.
 void CheckDistinctRuns(const SweepMatrix& m) {
   std::map<std::string, int> seen;
@@ -532,6 +565,7 @@ SweepMatrix ParseSweepMatrix(const std::string& toml_text, const std::string& or
   std::vector<std::vector<Axis>> blocks;
   ReadAxes(doc, &global, &blocks, &m);
   Expand(global, blocks, &m);
+  ExpandEnsembles(&m);
   CheckDistinctRuns(m);
   ValidateStoreRates(m);
   return m;

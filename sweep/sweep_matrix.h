@@ -45,6 +45,10 @@ struct StoreOptions {
 struct SweepRun {
   int id{0};
   std::vector<Assignment> values;  ///< axis and combination values, in expansion order
+  /// Ensemble member (run/ensemble.h): a case whose ensemble.members is N > 1 is N runs, member
+  /// k adding EnsembleMemberSettings (its crank start, its settle) to the case's values.
+  int member{0};
+  int case_id{0};  ///< id of the case's member 0 (whose ideal-joint twin every member shares)
   /// "rod.material=steel, drive.speed=110 rpm"
   std::string Label() const;
 };

@@ -22,7 +22,7 @@ nlohmann::json SweepMatrixToJson(const SweepMatrix& m) {
   for (const SweepRun& r : m.runs) {
     nlohmann::json values = nlohmann::json::array();
     for (const Assignment& a : r.values) values.push_back({a.key, a.value});
-    j["runs"].push_back(values);
+    j["runs"].push_back({{"values", values}, {"member", r.member}, {"case_id", r.case_id}});
   }
   const StoreOptions& s = m.store;
   j["store"] = {{"channels", s.channels},
@@ -49,7 +49,9 @@ SweepMatrix SweepMatrixFromJson(const nlohmann::json& j) {
   for (const auto& r : j.at("runs")) {
     SweepRun run;
     run.id = static_cast<int>(m.runs.size());
-    for (const auto& a : r) run.values.push_back({a[0], a[1]});
+    for (const auto& a : r.at("values")) run.values.push_back({a[0], a[1]});
+    run.member = r.at("member");
+    run.case_id = r.at("case_id");
     m.runs.push_back(std::move(run));
   }
   const auto& s = j.at("store");

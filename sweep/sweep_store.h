@@ -94,7 +94,9 @@ std::string InputToml(const Config& cfg);
 /// positive_median/p95/max, negative_median/p95/max [m/s^2] (per revolution),
 /// ideal_peak_positive, ideal_peak_negative [m/s^2], amplification_positive,
 /// amplification_negative, amplification_positive_p95, amplification_negative_p95 [1],
-/// num_inflection_positive, num_inflection_negative, num_samples [1].
+/// amplification_bearing_force, amplification_bearing_force_p95 [1], gauge_stress_p95 [Pa] (of
+/// the per-revolution peaks of the largest |gauge stress|), num_inflection_positive,
+/// num_inflection_negative, num_samples [1].
 /// Never throws for a failed or short run: what cannot be computed is left out.
 StoredRun AnalyseRun(const Config& cfg, const RunResult& run, const StoreOptions& store);
 

@@ -99,6 +99,34 @@ TEST(SweepMatrix, AxesCrossInDocumentOrderWithTheLastVaryingFastest) {
   EXPECT_DOUBLE_EQ(c.Quantity("rod.length"), 0.3);  // rigid-rig preset
 }
 
+TEST(SweepMatrix, AnEnsembleCaseIsItsMembersAdjacentEachWithItsStart) {
+  const SweepMatrix m = Parse(
+      "[set]\n\"ensemble.members\" = \"3\"\n\"joint.type\" = \"clearance\"\n"
+      "[axes]\n\"drive.speed\" = [\"100 rpm\", \"200 rpm\"]\n");
+  ASSERT_EQ(m.num_runs(), 6u);
+  for (int id = 0; id < 6; ++id) {
+    const SweepRun& r = m.runs[static_cast<std::size_t>(id)];
+    EXPECT_EQ(r.id, id);
+    EXPECT_EQ(r.member, id % 3);
+    EXPECT_EQ(r.case_id, id - id % 3);
+    const Config c = m.ConfigFor(id);
+    EXPECT_NEAR(c.Quantity("drive.speed") * kRpm, id < 3 ? 100.0 : 200.0, 1e-9);
+    // Member k starts its crank k · 120° on, exactly (the text reads back to the same double).
+    EXPECT_NEAR(c.Quantity("drive.initial_angle"), (id % 3) * 2.0 * std::numbers::pi / 3.0, 1e-15);
+  }
+  EXPECT_EQ(m.runs[0].values.size(), 1u);  // member 0 is the case itself
+  EXPECT_EQ(m.runs[1].values.size(), 3u);
+  // Sent to other MPI ranks, the members stay members.
+  const SweepMatrix back = SweepMatrixFromJson(SweepMatrixToJson(m));
+  EXPECT_EQ(back.runs[4].member, 1);
+  EXPECT_EQ(back.runs[4].case_id, 3);
+  // The keys the members set cannot be axes as well.
+  const InputError e = ErrorOf(
+      "[set]\n\"ensemble.members\" = \"2\"\n"
+      "[axes]\n\"drive.initial_angle\" = [\"0 deg\", \"90 deg\"]\n");
+  EXPECT_EQ(e.key(), "drive.initial_angle");
+}
+
 TEST(SweepMatrix, RangeIncludesItsEndAndKeepsTheUnit) {
   const SweepMatrix m = Parse(
       std::string(kRigid) +
