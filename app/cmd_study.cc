@@ -17,6 +17,7 @@
 #include "input/presets.h"
 #include "io/run_writer.h"
 #include "mechanisms/mechanism_model.h"
+#include "run/ensemble.h"
 #include "run/reduction_study.h"
 #include "run/rigid_rig_studies.h"
 #include "run/run.h"
@@ -89,11 +90,9 @@ std::vector<std::string> RunCase(const StudyOptions& opt, const std::string& tag
   return RigidRigStudyFigures(multibody::ToString(r.status.outcome), r.summary, wall);
 }
 
-// ---- the modal reduction study (variants and figures: run/reduction_study.h) ------------
-
-int RunReductionStudy(const StudyOptions& opt) {
-  Require(opt.within > 0.0 && std::isfinite(opt.within), "--within", opt.within,
-          "must be a finite percentage > 0 [%]");
+/// The case of the reduction and damping studies: the input (a preset or a TOML file) with the
+/// user's --set overrides.
+Config StudyInput(const StudyOptions& opt) {
   Config base;
   if (const Preset* preset = FindPreset(opt.input)) {
     base.LoadToml(preset->toml, opt.input);
@@ -101,6 +100,15 @@ int RunReductionStudy(const StudyOptions& opt) {
     base.LoadTomlFile(opt.input);
   }
   for (const std::string& s : opt.sets) base.SetAssignment(s);
+  return base;
+}
+
+// ---- the modal reduction study (variants and figures: run/reduction_study.h) ------------
+
+int RunReductionStudy(const StudyOptions& opt) {
+  Require(opt.within > 0.0 && std::isfinite(opt.within), "--within", opt.within,
+          "must be a finite percentage > 0 [%]");
+  const Config base = StudyInput(opt);
   const std::vector<ReductionVariant> variants = ReductionVariants();
   std::vector<Config> configs;
   for (const ReductionVariant& v : variants) {  // every variant's input checked before any run
@@ -142,11 +150,106 @@ int RunReductionStudy(const StudyOptions& opt) {
   return 0;
 }
 
+// ---- the damping study: one case under every damping model ----------------------------
+
+/// The damping models the study puts side by side; the first is the default (the reference).
+struct DampingVariant {
+  const char* name;
+  std::vector<std::string> sets;
+};
+const std::vector<DampingVariant>& DampingVariants() {
+  static const std::vector<DampingVariant> variants = {
+      {"band", {"damping.type=band"}},
+      {"material", {"damping.type=material"}},
+      {"ratio-1%", {"damping.type=ratio", "damping.ratio=0.01"}},
+      {"ratio-2%", {"damping.type=ratio", "damping.ratio=0.02"}},
+      {"ratio-5%", {"damping.type=ratio", "damping.ratio=0.05"}},
+      {"rayleigh-2e-5", {"damping.type=rayleigh", "damping.alpha=0", "damping.beta=2e-5 s"}}};
+  return variants;
+}
+
+/// The ensemble figures a damping study tabulates: (summary.json ensemble.figures name, column).
+const std::vector<std::pair<const char*, const char*>>& DampingFigures() {
+  static const std::vector<std::pair<const char*, const char*>> figures = {
+      {"slider_acceleration_positive_p95", "amplification + (p95)"},
+      {"slider_acceleration_negative_p95", "amplification - (p95)"},
+      {"bearing_force_p95", "bearing-force amplification (p95)"},
+      {"gauge_stress_p95 [Pa]", "gauge stress p95 [MPa]"}};
+  return figures;
+}
+
+int RunDampingStudy(const StudyOptions& opt) {
+  const Config base = StudyInput(opt);
+  std::vector<Config> configs;
+  for (const DampingVariant& v : DampingVariants()) {  // every variant checked before any run
+    Config cfg = base;
+    for (const std::string& s : v.sets) cfg.SetAssignment(s);
+    cfg.Resolve();
+    CheckRunInput(cfg, BuildMechanism(cfg, nullptr));
+    configs.push_back(cfg);
+  }
+  EnsureDirectory("--out", opt.out_dir);
+  std::vector<nlohmann::json> ensembles;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> header = {"damping", "outcome", "steady states"};
+  for (const auto& [key, column] : DampingFigures()) {
+    header.push_back(column);
+    header.push_back(std::string(column) + " 95 % interval");
+    header.push_back("vs band [%]");
+  }
+  for (size_t i = 0; i < configs.size(); ++i) {
+    const DampingVariant& v = DampingVariants()[i];
+    std::fprintf(stderr, "study damping: %s\n", v.name);
+    RunOutputOptions outputs;
+    outputs.keep_channel = [](const std::string&) { return false; };
+    const RunResult r = RunEnsemble(configs[i], outputs);
+    const std::string dir = opt.out_dir + "/" + v.name;
+    EnsureDirectory("--out", dir);
+    WriteFileAtomic(dir + "/resolved.toml", configs[i].ResolvedToml({}));
+    WriteFileAtomic(dir + "/summary.json", r.summary.dump(2) + "\n");
+    const nlohmann::json e = r.summary.value("ensemble", nlohmann::json::object());
+    ensembles.push_back(e);
+    std::vector<std::string> row = {
+        v.name, multibody::ToString(r.status.outcome),
+        e.contains("regime") ? std::to_string(e["regime"]["steady_states"].get<int>()) : "-"};
+    for (const auto& [key, column] : DampingFigures()) {
+      const double scale = std::string(key).find("[Pa]") != std::string::npos ? 1e-6 : 1.0;
+      auto figure = [&](const nlohmann::json& ens) -> const nlohmann::json* {
+        return ens.contains("figures") && ens["figures"].contains(key) ? &ens["figures"][key]
+                                                                       : nullptr;
+      };
+      const nlohmann::json* f = figure(e);
+      const nlohmann::json* ref = figure(ensembles.front());
+      char c[32] = "-", in[64] = "-", d[32] = "-";
+      if (f) {
+        std::snprintf(c, sizeof c, "%.4g", (*f)["centre"].get<double>() * scale);
+        std::snprintf(in, sizeof in, "%.4g .. %.4g", (*f)["interval"][0].get<double>() * scale,
+                      (*f)["interval"][1].get<double>() * scale);
+        if (ref) {
+          std::snprintf(
+              d, sizeof d, "%+.1f",
+              100.0 * ((*f)["centre"].get<double>() / (*ref)["centre"].get<double>() - 1.0));
+        }
+      }
+      row.insert(row.end(), {c, in, d});
+    }
+    rows.push_back(row);
+  }
+  WriteTables(opt.out_dir,
+              "Damping study: " + opt.input +
+                  " (each damping model's ensemble; reference: band, the default)",
+              header, rows);
+  if (!opt.no_plot) RunPlotScript({"damping", opt.out_dir});
+  return 0;
+}
+
 int RunStudy(const StudyOptions& opt) {
   if (opt.name == "reduction") return RunReductionStudy(opt);
+  if (opt.name == "damping") return RunDampingStudy(opt);
   if (opt.input_given) {
     throw InputError("input", opt.input,
-                     "only the reduction study takes an input; the rigid-rig studies run the "
+                     "only the reduction and damping studies take an input; the rigid-rig studies "
+                     "run the "
                      "rigid-rig preset (change it with --set)");
   }
   const RigidRigStudy study = FindRigidRigStudy(opt.name);
@@ -174,18 +277,23 @@ int RunStudy(const StudyOptions& opt) {
 void RegisterStudy(CLI::App& app, Handler* handler) {
   auto opt = std::make_shared<StudyOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "study", "the rigid-rig studies of the thesis (chapter 3) and the modal reduction study");
-  cmd->add_option("name", opt->name, "rigid-rig-laws | rigid-rig-friction | reduction")
+      "study",
+      "the rigid-rig studies of the thesis (chapter 3), the modal reduction study and the "
+      "damping study (one case's ensemble under band, material, ratio 1/2/5 % and Rayleigh "
+      "damping)");
+  cmd->add_option("name", opt->name, "rigid-rig-laws | rigid-rig-friction | reduction | damping")
       ->required()
       ->check(CLI::Validator(
           [](std::string& name) {  // CLI11's IsMember leaves an empty name unquoted
-            for (const char* known : {"rigid-rig-laws", "rigid-rig-friction", "reduction"}) {
+            for (const char* known :
+                 {"rigid-rig-laws", "rigid-rig-friction", "reduction", "damping"}) {
               if (name == known) return std::string();
             }
-            return "\"" + name + "\" not in {rigid-rig-laws, rigid-rig-friction, reduction}";
+            return "\"" + name +
+                   "\" not in {rigid-rig-laws, rigid-rig-friction, reduction, damping}";
           },
-          "rigid-rig-laws|rigid-rig-friction|reduction"));
-  cmd->add_option("input", opt->input, "reduction: the case, a preset or a TOML file")
+          "rigid-rig-laws|rigid-rig-friction|reduction|damping"));
+  cmd->add_option("input", opt->input, "reduction, damping: the case, a preset or a TOML file")
       ->capture_default_str()
       ->each([opt](const std::string&) { opt->input_given = true; });
   cmd->add_option("--within", opt->within,

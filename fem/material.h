@@ -14,7 +14,11 @@ struct Material {
   double poisson_ratio;   ///< ν [-], in (-1, 0.5)
   double density;         ///< ρ [kg/m^3], > 0
   double yield_strength;  ///< σ_y [Pa], > 0
-  std::string source;     ///< where the numbers come from
+  /// η [-], >= 0: the material's loss factor (internal damping of the solid, damping.type =
+  /// material: every mode gets ζ = η / 2, the viscous equivalent at resonance of hysteretic
+  /// damping)
+  double loss_factor{0.0};
+  std::string source;  ///< where the numbers come from
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   /// Throws InputError naming `prefix`.<field> for any invalid value.

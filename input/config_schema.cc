@@ -56,6 +56,7 @@ std::vector<ParamDef> WithRanges(std::vector<ParamDef> schema) {
       // >= 0 (0 often = derive or none)
       {"rod.E", non_negative},
       {"rod.rho", non_negative},
+      {"rod.loss_factor", non_negative},
       {"rod.yield", non_negative},
       {"reduction.modes", non_negative},
       {"reduction.cutoff", non_negative},
@@ -128,6 +129,9 @@ const std::vector<ParamDef>& Schema() {
       {"rod.rho", K::kQuantity, D::kDensity, "0", "density override [kg/m^3]; 0 = material's"},
       {"rod.yield", K::kQuantity, D::kPressure, "0",
        "yield strength override [Pa]; 0 = material's"},
+      {"rod.loss_factor", K::kQuantity, D::kDimensionless, "0",
+       "material loss factor override [-] (damping.type = material); 0 = material's: steel "
+       "4e-4, brass 1e-3, aluminium 1e-4 (Cremer, Heckl & Petersson, Structure-Borne Sound)"},
       {"rod.thickness", K::kQuantity, D::kLength, "3.175 mm",
        "bar thickness [m], > 0 (RIG.md Table 1; chapter 4's 6.25 mm conflicts)"},
       {"rod.height", K::kQuantity, D::kLength, "19.05 mm", "bar height [m], > 0"},
@@ -137,7 +141,8 @@ const std::vector<ParamDef>& Schema() {
        K::kChoice,
        D::kDimensionless,
        "euler-bernoulli",
-       "beam theory",
+       "beam theory of the reduced and full FE rods; the exact rod (rod.type = exact) is always "
+       "a shear-deformable Reissner (Timoshenko) beam and refuses euler-bernoulli when set",
        {"euler-bernoulli", "timoshenko"}},
       {"rod.bending",
        K::kChoice,
@@ -356,11 +361,13 @@ const std::vector<ParamDef>& Schema() {
        K::kChoice,
        D::kDimensionless,
        "band",
-       "band: 1 % < 100 Hz, 10 % < 1 kHz, critical above; ratio; rayleigh. band and ratio "
+       "band: 1 % < 100 Hz, 10 % < 1 kHz, critical above (the thesis's commercial code's "
+       "convention); ratio; rayleigh; material: every mode zeta = eta / 2 of the rod's material "
+       "loss factor (rod.loss_factor). band, ratio and material "
        "damp the rod's modes in the assembled mechanism (crank held at 0, whatever "
        "drive.initial_angle is, ideal small-end joint), not those of the rod clamped to its "
        "frame",
-       {"band", "ratio", "rayleigh"}},
+       {"band", "ratio", "rayleigh", "material"}},
       {"damping.ratio", K::kQuantity, D::kDimensionless, "0.02",
        "modal damping ratio (type ratio) of every mode of the rod in the assembled mechanism "
        "(crank held at 0) [-]"},

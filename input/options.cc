@@ -56,7 +56,17 @@ int ChoiceIndex(const Config& cfg, const std::string& key) {
   throw std::logic_error("ChoiceIndex: " + key + " = " + value + " is not among its choices");
 }
 
-RodModel ReadRodModel(const Config& cfg) { return ReadChoice<RodModel>(cfg, "rod.type"); }
+RodModel ReadRodModel(const Config& cfg) {
+  const RodModel model = ReadChoice<RodModel>(cfg, "rod.type");
+  // The exact rod is a shear-deformable (Reissner) beam: it cannot honour Euler-Bernoulli.
+  if (model == RodModel::kExact && cfg.IsSet("rod.element") &&
+      cfg.Text("rod.element") == "euler-bernoulli") {
+    throw InputError("rod.element", "euler-bernoulli",
+                     "rod.type = exact is a geometrically exact shear-deformable (Reissner, "
+                     "Timoshenko) beam; leave rod.element unset or set it to timoshenko");
+  }
+  return model;
+}
 
 SimOptions ReadSimOptions(const Config& cfg) {
   SimOptions o;

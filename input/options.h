@@ -80,9 +80,17 @@ DriveOptions ReadDriveOptions(const Config& cfg);
 
 /// damping.*: the rod's elastic damping.
 struct DampingOptions {
-  enum class Type { kBand, kRatio, kRayleigh };  ///< in the order of the schema's choices
+  enum class Type {
+    kBand,
+    kRatio,
+    kRayleigh,
+    kMaterial
+  };  ///< in the order of the schema's choices
   Type type{Type::kBand};
   double ratio{0.0};  ///< damping.ratio [1]
+  /// kMaterial: the rod material's loss factor η [1] (set where the material is resolved:
+  /// BuildMechanism); every mode gets ζ = η / 2.
+  double loss_factor{0.0};
   double alpha{0.0};  ///< Rayleigh mass factor [1/s]
   double beta{0.0};   ///< Rayleigh stiffness factor [s]
 };

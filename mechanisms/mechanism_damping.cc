@@ -10,7 +10,8 @@ namespace flexrod {
 bool DampingRefersToMechanism(const Config& cfg) {
   if (ReadRodModel(cfg) == RodModel::kRigid) return false;
   const DampingOptions d = ReadDampingOptions(cfg);
-  if (d.type == DampingOptions::Type::kBand) return true;
+  if (d.type == DampingOptions::Type::kBand || d.type == DampingOptions::Type::kMaterial)
+    return true;
   if (d.type != DampingOptions::Type::kRatio) return false;
   RequireNonNegative("damping.ratio", d.ratio);
   return d.ratio > 0.0;
@@ -25,6 +26,8 @@ Vec DampingRatiosFor(const DampingOptions& damping, const Vec& frequencies_hz) {
     const multibody::DampingSpec band = multibody::DampingSpec::FrequencyBand();
     return frequencies_hz.unaryExpr([&](double f) { return band.BandRatio(f); });
   }
+  if (damping.type == DampingOptions::Type::kMaterial)
+    return Vec::Constant(frequencies_hz.size(), 0.5 * damping.loss_factor);
   RequireNonNegative("damping.ratio", damping.ratio);
   return Vec::Constant(frequencies_hz.size(), damping.ratio);
 }

@@ -23,9 +23,9 @@ multibody::DampingSpec DampingSpecOf(const DampingOptions& o) {
   multibody::DampingSpec d;
   if (o.type == DampingOptions::Type::kBand) {
     d = multibody::DampingSpec::FrequencyBand();
-  } else if (o.type == DampingOptions::Type::kRatio) {
-    d = o.ratio > 0.0 ? multibody::DampingSpec::ModalRatio({o.ratio})
-                      : multibody::DampingSpec::None();
+  } else if (o.type == DampingOptions::Type::kRatio || o.type == DampingOptions::Type::kMaterial) {
+    const double ratio = o.type == DampingOptions::Type::kRatio ? o.ratio : 0.5 * o.loss_factor;
+    d = ratio > 0.0 ? multibody::DampingSpec::ModalRatio({ratio}) : multibody::DampingSpec::None();
   } else {
     d = multibody::DampingSpec::Rayleigh(o.alpha, o.beta);
   }
@@ -171,6 +171,8 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   MechanismModel out;
   out.drive = ReadDriveOptions(cfg);
   out.damping = ReadDampingOptions(cfg);
+  if (out.damping.type == DampingOptions::Type::kMaterial && ReadRodModel(cfg) != RodModel::kRigid)
+    out.damping.loss_factor = RodFromConfig(cfg).material.loss_factor;
   multibody::MechanismBuilder b;
   const bool flexible = ReadRodModel(cfg) == RodModel::kFlexible;
   if (flexible && !rod) rod = BuildReducedRod(cfg);
@@ -249,6 +251,23 @@ MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
   out.mechanism_frequencies_hz = modes.frequencies_hz.segment(first, count);
   out.mechanism_damping_ratios =
       (std::numbers::pi * beta) * out.mechanism_frequencies_hz;  // β ω / 2
+  const Vec asked = DampingRatiosFor(undamped.damping, out.mechanism_frequencies_hz);
+  std::ostringstream note;
+  note.precision(3);
+  bool differs = false;
+  for (int i = 0; i < count; ++i) {
+    const double got = out.mechanism_damping_ratios(i), want = asked(i);
+    differs = differs || std::abs(got - want) > 0.1 * want;
+    note << (i ? ", " : "") << out.mechanism_frequencies_hz(i) << " Hz: " << got << " (asked "
+         << want << ")";
+  }
+  if (differs) {
+    out.damping_warning =
+        "rod.type = exact realises damping.type = " + cfg.Text("damping.type") +
+        " as Kelvin-Voigt damping fitted to its first mechanism mode, so its modes get other "
+        "ratios than asked: " +
+        note.str() + "; use damping.type = rayleigh for the same damping on both rods";
+  }
   return out;
 }
 

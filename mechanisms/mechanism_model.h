@@ -62,6 +62,10 @@ struct MechanismModel {
   /// given to them (mechanisms/mechanism_damping.h); empty otherwise.
   Vec mechanism_frequencies_hz;  ///< [Hz], ascending
   Vec mechanism_damping_ratios;  ///< [-]
+  /// Where the rod cannot realise the damping.* asked of it exactly (the exact rod's fitted
+  /// Kelvin–Voigt damping): what it realises instead, one sentence for the run's warnings;
+  /// empty otherwise.
+  std::string damping_warning;
 };
 
 /// [[cos θ, −sin θ], [sin θ, cos θ]]: a planar rotation by θ [rad].

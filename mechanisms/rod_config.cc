@@ -13,8 +13,10 @@ fem::RodSpec RodFromConfig(const Config& cfg) {
   rod.material = fem::MaterialByName(cfg.Text("rod.material"));
   // Overrides make a custom material derived from the named one.
   bool custom = false;
+  // 0 means "the material's" (the keys' documented default), also where an input sets it: a
+  // resolved.toml writes every key, and must run again as an input.
   auto override_with = [&](const char* key, double* field) {
-    if (cfg.IsSet(key)) {
+    if (cfg.IsSet(key) && cfg.Quantity(key) != 0.0) {
       *field = cfg.Quantity(key);
       custom = true;
     }
@@ -23,6 +25,7 @@ fem::RodSpec RodFromConfig(const Config& cfg) {
   override_with("rod.nu", &rod.material.poisson_ratio);
   override_with("rod.rho", &rod.material.density);
   override_with("rod.yield", &rod.material.yield_strength);
+  override_with("rod.loss_factor", &rod.material.loss_factor);
   if (custom) {
     rod.material.name = "custom (" + rod.material.name + " with overrides)";
     rod.material.source = "user input";

@@ -219,11 +219,13 @@ void DampingSpec::Validate(const std::string& key, int num_modes) const {
     }
     case DampingKind::kFrequencyBand:
       RequirePositive(key + ".band_low_limit_hz", band_low_limit_hz);
-      Require(band_high_limit_hz > band_low_limit_hz, key + ".band_high_limit_hz",
-              band_high_limit_hz, "must be > band_low_limit_hz");
-      RequireNonNegative(key + ".band_low_ratio", band_low_ratio);
-      RequireNonNegative(key + ".band_mid_ratio", band_mid_ratio);
-      RequireNonNegative(key + ".band_high_ratio", band_high_ratio);
+      // The transitions (an octave about each limit, BandRatio) must not overlap, and log ζ
+      // must exist.
+      Require(band_high_limit_hz >= 2.0 * band_low_limit_hz, key + ".band_high_limit_hz",
+              band_high_limit_hz, "must be >= 2 band_low_limit_hz");
+      RequirePositive(key + ".band_low_ratio", band_low_ratio);
+      RequirePositive(key + ".band_mid_ratio", band_mid_ratio);
+      RequirePositive(key + ".band_high_ratio", band_high_ratio);
       break;
     case DampingKind::kRayleigh:
       RequireNonNegative(key + ".rayleigh_alpha", rayleigh_alpha);

@@ -13,6 +13,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -86,11 +87,24 @@ struct DampingSpec {
   static DampingSpec None() { return {}; }
   static DampingSpec ModalRatio(std::vector<double> ratios);
   static DampingSpec FrequencyBand();
-  /// The band ratio ζ [-] for a mode of frequency f_hz [Hz] (the band_* fields).
+  /// The band ratio ζ [-] for a mode of frequency f_hz [Hz] (the band_* fields). The ratio does
+  /// not jump at a limit: over one octave centred on it (limit / √2 to limit · √2) log ζ runs
+  /// linearly in log f from the ratio below to the ratio above, so that a small change of a rod
+  /// cannot move a mode from 10 % to critical damping (at the limit itself: the geometric mean
+  /// of the two). Outside the transitions the band's constant ratios hold.
   double BandRatio(double f_hz) const {
-    return f_hz < band_low_limit_hz    ? band_low_ratio
-           : f_hz < band_high_limit_hz ? band_mid_ratio
-                                       : band_high_ratio;
+    const double w = std::sqrt(2.0);  // half an octave each side
+    auto across = [&](double limit, double below, double above) {
+      const double s = std::log(f_hz / (limit / w)) / std::log(w * w);  // 0 .. 1 over the octave
+      return std::exp(std::log(below) + s * (std::log(above) - std::log(below)));
+    };
+    if (f_hz <= band_low_limit_hz / w) return band_low_ratio;
+    if (f_hz < band_low_limit_hz * w)
+      return across(band_low_limit_hz, band_low_ratio, band_mid_ratio);
+    if (f_hz <= band_high_limit_hz / w) return band_mid_ratio;
+    if (f_hz < band_high_limit_hz * w)
+      return across(band_high_limit_hz, band_mid_ratio, band_high_ratio);
+    return band_high_ratio;
   }
   static DampingSpec Rayleigh(double alpha, double beta);
   static DampingSpec Matrix(Mat d);

@@ -173,6 +173,7 @@ nlohmann::json Summarise(const RunResult& run, const Recorder& rec, const Config
     std::string warning;
     s["rod"] = RodSummaryJson(rec, mm, &warning);
     if (!warning.empty()) s["warnings"].push_back(warning);
+    if (!mm.damping_warning.empty()) s["warnings"].push_back(mm.damping_warning);
   }
   if (mm.clearance.index >= 0) {
     // Loaded contacts penetrate by micrometres; a tenth of the clearance means the law is far

@@ -6,6 +6,7 @@
                                       --wait: import now, plot when stdin says "go"
   flexrod_plots.py sweep SUMMARY.csv OUT.png   amplification factor vs speed (flexrod sweep)
   flexrod_plots.py compare DIR  DIR/comparison_NN_points.csv -> 3-D scatter and plan view PNGs
+  flexrod_plots.py damping DIR  DIR/table.csv (flexrod study damping) -> DIR/damping.png
 Every PNG is written to a temporary name and renamed, so no half-written plot is left.
 """
 import csv
@@ -432,6 +433,35 @@ def plot_reduction(directory):
     save(fig, os.path.join(directory, "convergence.png"))
 
 
+def plot_damping(directory):
+    """The damping study (DIR/table.csv): each headline figure under each damping model, its
+    ensemble centre with the 95 % interval as an error bar, one panel per figure."""
+    with open(os.path.join(directory, "table.csv"), newline="") as f:
+        rows = list(csv.reader(f))
+    header, rows = rows[0], rows[1:]
+    figures = [header[i] for i in range(3, len(header), 3)]
+    fig, axes = plt.subplots(1, len(figures), figsize=(3.2 * len(figures), 3.8))
+    names = [r[0] for r in rows]
+    for ax, name in zip(np.atleast_1d(axes), figures):
+        col = header.index(name)
+        xs, ys, lo, hi = [], [], [], []
+        for i, r in enumerate(rows):
+            if r[col] in ("-", "") or ".." not in r[col + 1]:
+                continue
+            a, b = (float(v) for v in r[col + 1].split(".."))
+            xs.append(i)
+            ys.append(float(r[col]))
+            lo.append(float(r[col]) - a)
+            hi.append(b - float(r[col]))
+        ax.errorbar(xs, ys, yerr=[lo, hi], fmt="o", capsize=3)
+        ax.set_xticks(range(len(names)))
+        ax.set_xticklabels(names, rotation=45, ha="right", fontsize=7)
+        ax.set_title(name, fontsize=8)
+        ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    save(fig, os.path.join(directory, "damping.png"))
+
+
 def main(argv):
     if len(argv) < 3:
         print(__doc__, file=sys.stderr)
@@ -448,6 +478,9 @@ def main(argv):
         return 0
     if argv[1] == "reduction":
         plot_reduction(argv[2])
+        return 0
+    if argv[1] == "damping":
+        plot_damping(argv[2])
         return 0
     if argv[1] == "sweep" and len(argv) >= 4:
         plot_sweep(argv[2], argv[3])

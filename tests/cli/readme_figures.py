@@ -14,6 +14,8 @@
 - The modal reduction study with Rayleigh damping (`flexrod study reduction`): the smallest
   Craig–Bampton k within 2 % of the exact rod, and the largest difference of k = 8 and of the
   full FE rod, to the printed digits.
+- The damping study (`flexrod study damping`): the main job's positive amplification p95 under
+  the band, the ratios 1–5 %, Rayleigh and the material's damping, to the printed digits.
 - The rigid rig's guide calibration: the median per-revolution peak |a| at 101 rpm over the
   ideal joint's, at the preset's guide damping and 2 % below and above it, to the printed digits.
 
@@ -179,6 +181,34 @@ def check_reduction_study(binary, readme, tmp, errors):
                           % (variant, value, quoted))
 
 
+def check_damping_study(binary, readme, tmp, errors):
+    """The damping study's positive amplification p95 per damping model, to the printed digits."""
+    text = readme_text(readme)
+    m = re.search(r"the positive amplification p95 is ([\d.]+) with the band, ([\d.]+)–([\d.]+) "
+                  r"with 1–5 % on every mode, ([\d.]+) with Rayleigh β = 2e-5 s and ([\d.]+) with "
+                  r"the metal's own damping", text)
+    if m is None:
+        errors.append("README: the damping study's sentence is missing")
+        return
+    out = os.path.join(tmp, "damping")
+    argv = [binary, "study", "damping", "--no-plot", "--out", out]
+    proc = subprocess.run(argv, capture_output=True, text=True, timeout=900)
+    if proc.returncode != 0:
+        errors.append("flexrod %s failed:\n%s" % (" ".join(argv[1:]), proc.stderr))
+        return
+    with open(os.path.join(out, "table.csv"), encoding="utf-8") as f:
+        rows = {r[0]: r for r in (line.rstrip("\n").split(",") for line in f)}
+    column = rows["damping"].index("amplification + (p95)")
+    ratios = sorted((rows[v][column] for v in ("ratio-1%", "ratio-2%", "ratio-5%")), key=float)
+    for name, value, quoted in (("band", rows["band"][column], m.group(1)),
+                                ("ratio, lowest", ratios[0], m.group(2)),
+                                ("ratio, highest", ratios[-1], m.group(3)),
+                                ("rayleigh", rows["rayleigh-2e-5"][column], m.group(4)),
+                                ("material", rows["material"][column], m.group(5))):
+        if value != quoted:  # the table's own 4 significant digits
+            errors.append("damping study: %s %s, the README says %s" % (name, value, quoted))
+
+
 def main(argv):
     binary, readme = argv[1], argv[2]
     errors = []
@@ -189,6 +219,7 @@ def main(argv):
         check_rigid_rig_calibration(binary, readme, tmp, errors)
         check_exact_rod_comparison(binary, readme, tmp, errors)
         check_reduction_study(binary, readme, tmp, errors)
+        check_damping_study(binary, readme, tmp, errors)
     for err in errors:
         print(err)
     print("%d README figures differ" % len(errors))

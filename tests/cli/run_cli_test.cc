@@ -367,6 +367,23 @@ std::string ReadText(const fs::path& path) {
 // The resolved input names the contact parameters the run derived (issue 4: "the resolved
 // values are written into the run's resolved input"), as comments, so that the file still
 // loads as an input (0 = derive) and reruns the same mechanism.
+// A flexible rod's resolved.toml sets every material override to its default 0 ("the
+// material's"): it runs again as an input, with the same summary (was: "rod.E = 0 Pa").
+TEST(RunCli, AFlexibleRodsResolvedInputRunsAgain) {
+  const fs::path first = ScratchPath("cli_resolved_flexible"),
+                 again = ScratchPath("cli_resolved_flexible_again");
+  const std::string sets =
+      " --no-plot --ensemble 1 --set sim.settle=0s --set sim.capture=0.02s --set "
+      "damping.type=material --out ";
+  ASSERT_EQ(Flexrod("run flexible-rig" + sets + first.string()).exit_code, 0);
+  const auto r = Flexrod("run " + (first / "resolved.toml").string() + sets + again.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream a(first / "summary.json"), b(again / "summary.json");
+  const nlohmann::json sa = nlohmann::json::parse(a), sb = nlohmann::json::parse(b);
+  EXPECT_EQ(sa["rod"]["mechanism_damping_ratios"], sb["rod"]["mechanism_damping_ratios"]);
+  EXPECT_EQ(sa["rod"]["mechanism_damping_ratios"][0].get<double>(), 2e-4);  // steel: eta / 2
+}
+
 TEST(RunCli, ResolvedInputShowsTheDerivedContactParametersAndLoadsBack) {
   const fs::path first = ScratchPath("cli_resolved_first"),
                  again = ScratchPath("cli_resolved_again");

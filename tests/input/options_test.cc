@@ -53,10 +53,12 @@ TEST(Options, EveryChoiceOfTheSchemaReadsAsItsNamedEnumerator) {
                         {{"auto", Solver::kAuto}, {"dense", Solver::kDense}, {"klu", Solver::kKlu}},
                         [](const Config& c) { return ReadSimOptions(c).linear_solver; });
   using Damping = DampingOptions::Type;
-  ExpectChoices<Damping>(
-      "damping.type",
-      {{"band", Damping::kBand}, {"ratio", Damping::kRatio}, {"rayleigh", Damping::kRayleigh}},
-      [](const Config& c) { return ReadDampingOptions(c).type; });
+  ExpectChoices<Damping>("damping.type",
+                         {{"band", Damping::kBand},
+                          {"ratio", Damping::kRatio},
+                          {"rayleigh", Damping::kRayleigh},
+                          {"material", Damping::kMaterial}},
+                         [](const Config& c) { return ReadDampingOptions(c).type; });
   using Drive = DriveOptions::Type;
   ExpectChoices<Drive>(
       "drive.type",

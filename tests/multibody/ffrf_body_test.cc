@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <random>
 
+#include "common/error.h"
 #include "mb_test_util.h"
 #include "multibody/dae.h"
 #include "multibody/mechanism.h"
@@ -226,7 +228,19 @@ TEST(FfrfBody, ModalDampingHasThePrescribedRatios) {
   }
 }
 
-// Band damping: ζ = 1 % below 100 Hz, 10 % below 1 kHz, critical above (named defaults).
+// The band's ratio with its octave-wide transitions, written as a weighted geometric mean:
+// ζ = below^(1−s) · above^s, s = clamp(log2(f / limit) + 1/2, 0, 1) at each limit.
+double SmoothBand(double f) {
+  auto s = [f](double limit) { return std::clamp(std::log2(f / limit) + 0.5, 0.0, 1.0); };
+  const double low = std::pow(kBandLowRatio, 1.0 - s(kBandLowLimitHz)) *
+                     std::pow(kBandMidRatio, s(kBandLowLimitHz));
+  const double high = std::pow(kBandMidRatio, 1.0 - s(kBandHighLimitHz)) *
+                      std::pow(kBandHighRatio, s(kBandHighLimitHz));
+  return f < std::sqrt(kBandLowLimitHz * kBandHighLimitHz) ? low : high;
+}
+
+// Band damping: ζ = 1 % below 100 Hz, 10 % below 1 kHz, critical above (named defaults), with
+// log-linear transitions over an octave about each limit.
 TEST(FfrfBody, FrequencyBandDampingAssignsRatiosByBand) {
   const Fixture f = Make(DampingSpec::FrequencyBand());
   const Body& b = f.body();
@@ -234,16 +248,37 @@ TEST(FfrfBody, FrequencyBandDampingAssignsRatiosByBand) {
   int checked_bands = 0;
   for (int i = 0; i < kModes; ++i) {
     const double fz = b.modal_frequencies_hz(i);
-    const double expected = fz < kBandLowLimitHz    ? kBandLowRatio
-                            : fz < kBandHighLimitHz ? kBandMidRatio
-                                                    : kBandHighRatio;
-    EXPECT_EQ(b.modal_damping_ratios(i), expected) << fz << " Hz";
+    EXPECT_NEAR(b.modal_damping_ratios(i), SmoothBand(fz), 1e-12) << fz << " Hz";
     checked_bands += 1;
   }
   EXPECT_EQ(checked_bands, kModes);
   EXPECT_EQ(kBandLowRatio, 0.01);
   EXPECT_EQ(kBandMidRatio, 0.10);
   EXPECT_EQ(kBandHighRatio, 1.0);
+}
+
+// The band's ratio does not jump: at each limit it is the geometric mean of its neighbours,
+// continuous across it, monotone, and the constant levels hold outside the transitions.
+TEST(FfrfBody, BandRatioIsContinuousAcrossItsLimits) {
+  const DampingSpec band = DampingSpec::FrequencyBand();
+  EXPECT_NEAR(band.BandRatio(kBandHighLimitHz), std::sqrt(kBandMidRatio * kBandHighRatio), 1e-12);
+  EXPECT_NEAR(band.BandRatio(kBandLowLimitHz), std::sqrt(kBandLowRatio * kBandMidRatio), 1e-12);
+  EXPECT_EQ(band.BandRatio(kBandLowLimitHz / std::sqrt(2.0) * 0.999), kBandLowRatio);
+  EXPECT_EQ(band.BandRatio(300.0), kBandMidRatio);
+  EXPECT_EQ(band.BandRatio(kBandHighLimitHz * std::sqrt(2.0) * 1.001), kBandHighRatio);
+  double previous = 0.0;
+  for (double f = 10.0; f < 1e4; f *= 1.001) {
+    const double z = band.BandRatio(f);
+    EXPECT_GE(z, previous) << f;
+    EXPECT_NEAR(z, SmoothBand(f), 1e-12 * z) << f;
+    // A 0.1 % change of frequency changes the ratio by at most 0.5 % (the steepest transition,
+    // 10x over an octave, is f^3.3).
+    EXPECT_LT(z / std::max(previous, 1e-300), previous > 0.0 ? 1.005 : INFINITY) << f;
+    previous = z;
+  }
+  DampingSpec bad = band;
+  bad.band_high_limit_hz = 1.5 * bad.band_low_limit_hz;  // the transitions would overlap
+  EXPECT_THROW(bad.Validate("damping", 8), InputError);
 }
 
 // The synthetic rod alone, with a marker at node 3 offset by d.
