@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The main job with its default ensemble against one run (issue 56, "Speed").
 
-  benchmarks/ensemble_wall.py [--rounds N] [--binary build/flexrod] [--members 1,3,4]
+  benchmarks/ensemble_wall.py [--rounds N] [--binary build/flexrod] [--members 1,3,4] [--table2]
 
 Times `flexrod run --no-plot` on the built-in default study (the main job) in a fresh process,
 N rounds each (default 3), and prints the wall time (minimum over the rounds), the CPU time and
@@ -11,6 +11,9 @@ the ratio to the single run:
   sim.steady_window=false`), what `flexrod run` computed before ensembles;
 - "single run, steady window": one member, settling until its window is stationary;
 - the default ensemble (`flexrod run` with no flag), and `--ensemble M` for each M asked.
+With --table2, also the whole of RIG.md Table 2 (`flexrod sweep --no-plot`, once each: about 2
+and 8 minutes on two cores): its 189 cases as single runs (fixed settle, as before ensembles)
+and as 4-member ensembles (756 runs), with their ratio.
 Timing only: never a test.
 """
 import argparse
@@ -40,6 +43,7 @@ def main():
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--binary", default=os.path.join(HERE, "..", "build", "flexrod"))
     p.add_argument("--members", default="4", help="extra ensemble sizes, comma-separated")
+    p.add_argument("--table2", action="store_true", help="also time the Table 2 sweeps")
     args = p.parse_args()
     cases = [("single run (before)", ["--ensemble", "1", "--set", "sim.steady_window=false"]),
              ("single run, steady window", ["--ensemble", "1"]),
@@ -61,6 +65,20 @@ def main():
     for name, wall, cpu in results:
         print("  %-32s wall %6.2f s  CPU %6.2f s  wall / single run %.2f" %
               (name, wall, cpu, wall / base))
+    if args.table2:
+        with tempfile.TemporaryDirectory() as tmp:
+            sweeps = []
+            for name, extra in (("Table 2, single runs (before)",
+                                 ["--set", "sim.steady_window=false"]),
+                                ("Table 2, 4-member ensembles", ["--set", "ensemble.members=4"])):
+                w, c = timed([args.binary, "sweep", "--no-plot", "--out",
+                              os.path.join(tmp, "t2.h5")] + extra)
+                os.remove(os.path.join(tmp, "t2.h5"))
+                sweeps.append((name, w, c))
+        print("RIG.md Table 2 (flexrod sweep --no-plot), once each:")
+        for name, wall, cpu in sweeps:
+            print("  %-32s wall %7.1f s  CPU %7.1f s  wall / single runs %.2f" %
+                  (name, wall, cpu, wall / sweeps[0][1]))
     return 0
 
 
