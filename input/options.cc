@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -96,6 +97,32 @@ EnsembleOptions ReadEnsembleOptions(const Config& cfg) {
   e.settle_spread = cfg.Quantity("ensemble.settle_spread");
   e.confidence = cfg.Quantity("ensemble.confidence");
   return e;
+}
+
+namespace {
+
+/// A value as text that reads back to the same double.
+std::string Exact(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+int EnsembleMembers(const EnsembleOptions& options, bool automatic_ensemble) {
+  if (options.members > 0) return options.members;
+  return automatic_ensemble ? kDefaultRunMembers : 1;
+}
+
+std::vector<std::pair<std::string, std::string>> EnsembleMemberSettings(
+    const Config& cfg, const EnsembleOptions& options, int members, int k) {
+  if (k == 0) return {};  // member 0 is the input itself, bit for bit
+  const double step =
+      options.angle_step > 0.0 ? options.angle_step : 2.0 * std::numbers::pi / members;
+  const double f = static_cast<double>(k) / static_cast<double>(members);
+  return {{"drive.initial_angle", Exact(cfg.Quantity("drive.initial_angle") + k * step) + " rad"},
+          {"sim.settle", Exact(cfg.Quantity("sim.settle") + f * options.settle_spread) + " s"}};
 }
 
 DriveOptions ReadDriveOptions(const Config& cfg) {

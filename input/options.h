@@ -57,6 +57,18 @@ struct EnsembleOptions {
   double confidence{0.95};    ///< two-sided coverage of the bootstrap intervals
 };
 EnsembleOptions ReadEnsembleOptions(const Config& cfg);
+/// The members of `flexrod run`'s automatic ensemble (run/ensemble.h).
+inline constexpr int kDefaultRunMembers = 3;
+/// The number of members `options` asks for: ensemble.members, or for 0 (automatic)
+/// kDefaultRunMembers where `automatic_ensemble` (a `flexrod run` of a clearance joint on a
+/// crank) and 1 otherwise.
+int EnsembleMembers(const EnsembleOptions& options, bool automatic_ensemble);
+
+/// The keys member k (0 ≤ k < members) of the ensemble of `cfg` sets, as (key, text that reads
+/// back to the same double): none for member 0, drive.initial_angle and sim.settle for the others
+/// (EnsembleMemberInputs). Sweeps expand a case into its members with these.
+std::vector<std::pair<std::string, std::string>> EnsembleMemberSettings(
+    const Config& cfg, const EnsembleOptions& options, int members, int k);
 
 /// drive.* and motor.*: the crank's drive.
 struct DriveOptions {

@@ -38,31 +38,9 @@ const std::vector<double>* FindSeries(
   return nullptr;
 }
 
-/// A value as text that reads back to the same double.
-std::string Exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 double Median(std::vector<double> v) { return study::Percentile(v, 50.0); }
 
 }  // namespace
-
-int EnsembleMembers(const EnsembleOptions& options, bool automatic_ensemble) {
-  if (options.members > 0) return options.members;
-  return automatic_ensemble ? kDefaultRunMembers : 1;
-}
-
-std::vector<std::pair<std::string, std::string>> EnsembleMemberSettings(
-    const Config& cfg, const EnsembleOptions& options, int members, int k) {
-  if (k == 0) return {};  // member 0 is the input itself, bit for bit
-  const double step =
-      options.angle_step > 0.0 ? options.angle_step : 2.0 * std::numbers::pi / members;
-  const double f = static_cast<double>(k) / static_cast<double>(members);
-  return {{"drive.initial_angle", Exact(cfg.Quantity("drive.initial_angle") + k * step) + " rad"},
-          {"sim.settle", Exact(cfg.Quantity("sim.settle") + f * options.settle_spread) + " s"}};
-}
 
 std::vector<Config> EnsembleMemberInputs(const Config& cfg, const EnsembleOptions& options,
                                          int members) {

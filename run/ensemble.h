@@ -18,18 +18,6 @@
 
 namespace flexrod {
 
-/// The number of members `options` asks for: ensemble.members, or for 0 (automatic)
-/// kDefaultRunMembers where `automatic_ensemble` (a `flexrod run` of a clearance joint on a
-/// crank) and 1 otherwise.
-inline constexpr int kDefaultRunMembers = 3;
-int EnsembleMembers(const EnsembleOptions& options, bool automatic_ensemble);
-
-/// The keys member k (0 ≤ k < members) of the ensemble of `cfg` sets, as (key, text that reads
-/// back to the same double): none for member 0, drive.initial_angle and sim.settle for the others
-/// (EnsembleMemberInputs). Sweeps expand a case into its members with these.
-std::vector<std::pair<std::string, std::string>> EnsembleMemberSettings(
-    const Config& cfg, const EnsembleOptions& options, int members, int k);
-
 /// The inputs of the members: member 0 is `cfg` itself; member k (1 ≤ k < members) starts its
 /// crank at drive.initial_angle + k · angle_step (2π / members for 0) and settles sim.settle + k ·
 /// settle_spread / members.

@@ -16,9 +16,9 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "input/options.h"
 #include "input/presets.h"
 #include "input/toml_value.h"
-#include "run/ensemble.h"
 
 namespace flexrod::study {
 namespace {
