@@ -513,8 +513,9 @@ RunResult RunOne(const Config& cfg, const SimOptions& sim, MechanismModel mm, bo
     // The joint at the end of the last step searched for peaks (the step's next reported point).
     std::optional<multibody::ClearanceResponse> step_end;
     double step_end_time = 0.0;
+    // Every solution point overwrites the same storage: no allocation in a step after the first.
     auto keep_end = [&](const SampleView& sv) {
-      multibody::ConsistentState& e = w->end.emplace();
+      multibody::ConsistentState& e = w->end ? *w->end : w->end.emplace();
       e.t = sv.t();
       e.y = Eigen::Map<const Vec>(sv.y(), m.size());
       e.yp = Eigen::Map<const Vec>(sv.yp(), m.size());

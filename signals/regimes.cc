@@ -314,15 +314,15 @@ SteadyStates GroupSteadyStates(const std::vector<std::vector<Interval>>& figures
     if (out.state[m] >= 0) continue;
     // A new state: every member reachable from m through alike pairs.
     const int st = out.count++;
-    std::vector<std::size_t> todo = {m};
+    std::vector<std::size_t> stack = {m};  // members joined, not yet searched from
     out.state[m] = st;
-    while (!todo.empty()) {
-      const std::size_t a = todo.back();
-      todo.pop_back();
+    while (!stack.empty()) {
+      const std::size_t a = stack.back();
+      stack.pop_back();
       for (std::size_t b = 0; b < k; ++b) {
         if (out.state[b] < 0 && alike(a, b)) {
           out.state[b] = st;
-          todo.push_back(b);
+          stack.push_back(b);
         }
       }
     }
