@@ -120,11 +120,12 @@ void AddReducedRodBody(const Config& cfg, const multibody::DampingSpec& damping,
 }
 
 /// The geometrically exact rod's node bodies and elements (multibody/exact_rod.h), with
-/// Kelvin–Voigt damping β from the Rayleigh stiffness factor (BuildMechanism refers ratio and
-/// band damping to it), and its end markers (`small_offset` [m] from the last node).
+/// Kelvin–Voigt damping β from the Rayleigh stiffness factor, or the modal damping `modal`
+/// (non-null for the modal damping types: BuildExactRodMechanism), and its end markers
+/// (`small_offset` [m] from the last node).
 void AddExactRodBodies(const Config& cfg, const multibody::DampingSpec& damping,
-                       const Vec2& small_offset, multibody::MechanismBuilder* b,
-                       MechanismModel* model) {
+                       const multibody::CorotatedModalFit* modal, const Vec2& small_offset,
+                       multibody::MechanismBuilder* b, MechanismModel* model) {
   MechanismModel& out = *model;
   const Vec2 big_offset = out.big_end_point;
   if (damping.kind == multibody::DampingKind::kRayleigh && damping.rayleigh_alpha != 0.0) {
@@ -136,6 +137,11 @@ void AddExactRodBodies(const Config& cfg, const multibody::DampingSpec& damping,
   es.name = "rod";
   es.rod = RodWithClamps(cfg, true);
   es.beta = damping.kind == multibody::DampingKind::kRayleigh ? damping.rayleigh_beta : 0.0;
+  if (modal != nullptr) {
+    es.beta = modal->beta;
+    es.modal_damping_modes = modal->modes;
+    es.modal_damping_coefficients = modal->coefficients;
+  }
   out.exact = std::make_shared<const multibody::ExactRod>(multibody::AddExactRod(b, es));
   out.conrod = out.exact->nodes.front();
   out.big_end = b->AddBodyMarker(out.exact->nodes.front(), "big-end", big_offset);
@@ -163,11 +169,12 @@ void AddRigidRodBody(const Config& cfg, multibody::MechanismBuilder* b, Mechanis
 }  // namespace
 
 /// One build of the mechanism; `rod_damping` (may be null: damping.* as is) is the flexible
-/// rod's damping. BuildMechanism below decides which.
-static MechanismModel BuildMechanismPass(const Config& cfg,
-                                         std::shared_ptr<const fem::ReducedRod> rod,
-                                         bool ideal_joint,
-                                         const multibody::DampingSpec* rod_damping) {
+/// rod's damping, `exact_modal` (may be null) the exact rod's modal damping. BuildMechanism
+/// below decides which.
+static MechanismModel BuildMechanismPass(
+    const Config& cfg, std::shared_ptr<const fem::ReducedRod> rod, bool ideal_joint,
+    const multibody::DampingSpec* rod_damping,
+    const multibody::CorotatedModalFit* exact_modal = nullptr) {
   MechanismModel out;
   out.drive = ReadDriveOptions(cfg);
   out.damping = ReadDampingOptions(cfg);
@@ -194,7 +201,7 @@ static MechanismModel BuildMechanismPass(const Config& cfg,
   if (flexible) {
     AddReducedRodBody(cfg, damping, small_offset, &b, &out);
   } else if (exact) {
-    AddExactRodBodies(cfg, damping, small_offset, &b, &out);
+    AddExactRodBodies(cfg, damping, exact_modal, small_offset, &b, &out);
   } else {
     AddRigidRodBody(cfg, &b, &out);
   }
@@ -226,47 +233,40 @@ Config DampingReference(const Config& cfg) {
   return reference;
 }
 
-/// The exact rod's Kelvin–Voigt β for damping.type = ratio | band: fitted so that the rod's
-/// first mode in the assembled mechanism (crank held, initial crank angle, ideal small-end joint,
-/// as for the reduced rod) has the requested ratio, ζ_1 = β ω_1 / 2; higher modes get more
-/// (ζ_i = β ω_i / 2), as from a Rayleigh stiffness term fitted to mode 1.
+/// The exact rod with damping.type = ratio | band | material: the ratios refer to the modes of
+/// the assembled mechanism (crank held at angle 0, ideal small-end joint), as for the reduced
+/// rod. Its modes up to kExactRodModalLimitHz, and below the first mode asked to be critically
+/// damped, get exactly those ratios from a co-rotated modal damping of the node bodies plus
+/// Kelvin–Voigt damping of the elements (FitCorotatedModalDamping); the modes above get
+/// β ω / 2, at least their ratio (mechanisms/mechanism_damping.h says why).
 MechanismModel BuildExactRodMechanism(const Config& cfg, bool ideal_joint) {
   if (!DampingRefersToMechanism(cfg)) return BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr);
   const MechanismModel undamped = BuildMechanismWithRodDamping(
       DampingReference(cfg), nullptr, /*ideal_joint=*/true, multibody::DampingSpec::None());
   const multibody::MechanismModes modes = multibody::CalcMechanismModes(
       undamped.mechanism, undamped.p0, HeldForMechanismModes(undamped));
-  int first = 0;
-  while (first < modes.frequencies_hz.size() && !(modes.frequencies_hz[first] > 0.0)) ++first;
-  if (first == modes.frequencies_hz.size()) {
-    throw NumericalError(
-        "rod.type = exact: the mechanism has no elastic mode to refer damping.* to");
-  }
-  const double f1 = modes.frequencies_hz[first];
-  const double zeta = DampingRatiosFor(undamped.damping, Vec::Constant(1, f1))(0);
-  const double beta = 2.0 * zeta / (2.0 * std::numbers::pi * f1);
-  MechanismModel out = BuildMechanismWithRodDamping(cfg, nullptr, ideal_joint,
-                                                    multibody::DampingSpec::Rayleigh(0.0, beta));
-  const int count = std::min<int>(8, static_cast<int>(modes.frequencies_hz.size()) - first);
-  out.mechanism_frequencies_hz = modes.frequencies_hz.segment(first, count);
-  out.mechanism_damping_ratios =
-      (std::numbers::pi * beta) * out.mechanism_frequencies_hz;  // β ω / 2
-  const Vec asked = DampingRatiosFor(undamped.damping, out.mechanism_frequencies_hz);
-  std::ostringstream note;
-  note.precision(3);
-  bool differs = false;
-  for (int i = 0; i < count; ++i) {
-    const double got = out.mechanism_damping_ratios(i), want = asked(i);
-    differs = differs || std::abs(got - want) > 0.1 * want;
-    note << (i ? ", " : "") << out.mechanism_frequencies_hz(i) << " Hz: " << got << " (asked "
-         << want << ")";
-  }
-  if (differs) {
-    out.damping_warning =
-        "rod.type = exact realises damping.type = " + cfg.Text("damping.type") +
-        " as Kelvin-Voigt damping fitted to its first mechanism mode, so its modes get other "
-        "ratios than asked: " +
-        note.str() + "; use damping.type = rayleigh for the same damping on both rods";
+  const Vec zeta = DampingRatiosFor(undamped.damping, modes.frequencies_hz);
+  int exact_modes = 0;
+  while (exact_modes < modes.num_modes() &&
+         modes.frequencies_hz(exact_modes) <= kExactRodModalLimitHz && zeta(exact_modes) < 1.0)
+    ++exact_modes;
+  const multibody::CorotatedModalFit fit =
+      multibody::FitCorotatedModalDamping(undamped.mechanism, modes, undamped.exact->nodes,
+                                          undamped.p0, zeta, std::max(exact_modes, 1));
+  MechanismModel out = BuildMechanismPass(cfg, nullptr, ideal_joint, nullptr, &fit);
+  out.mechanism_frequencies_hz = modes.frequencies_hz;
+  out.mechanism_damping_ratios = fit.ratios;
+  const int n = modes.num_modes(), above = n - exact_modes;
+  if (above > 0) {
+    std::ostringstream note;
+    note.precision(3);
+    note << "rod.type = exact: its " << above << " mechanism modes from "
+         << modes.frequencies_hz(exact_modes) << " to " << modes.frequencies_hz(n - 1)
+         << " Hz get Kelvin-Voigt ratios " << fit.ratios(exact_modes) << " to " << fit.ratios(n - 1)
+         << " instead of the " << zeta(exact_modes) << " to " << zeta(n - 1)
+         << " damping.type = " << cfg.Text("damping.type")
+         << " asks; the modes below get exactly their ratios";
+    out.damping_warning = note.str();
   }
   return out;
 }

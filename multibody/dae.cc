@@ -247,6 +247,10 @@ int CalcResidual(const Mechanism& model, RunData* data, double t, const double* 
   for (size_t ei = 0; ei < model.elements().size(); ++ei) {
     if (!AddElementResidual(model, data, ei, t, z, zd, r5, &diss_elements)) return 1;
   }
+  for (size_t di = 0; di < model.corotated_dampings().size(); ++di) {
+    AddCorotatedDampingResidual(model, model.corotated_dampings()[di], &data->corotated[di], p, v,
+                                zd, data->Q.data(), r5, &diss_damping);
+  }
   for (int i = 0; i < np; ++i) r2[i] -= data->Q(i);
 
   // Energy quadratures.
@@ -315,6 +319,10 @@ void AbsoluteToleranceScales(const Mechanism& model, double velocity_scale, doub
     for (int k = 0; k < e.num_states; ++k) {
       scales[model.z_offset() + e.state_offset + k] = e.element->StateScale(k);
     }
+  }
+  for (const CorotatedDamping& d : model.corotated_dampings()) {
+    for (int k = 0; k < d.num_states(); ++k)
+      scales[model.z_offset() + d.state_offset + k] = kCorotatedStateScale;
   }
   for (int k = 0; k < kNumQuadratures; ++k) scales[model.quadrature_offset() + k] = energy_scale;
 }

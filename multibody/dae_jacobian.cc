@@ -348,6 +348,10 @@ int AddJacobian(const Mechanism& model, RunData* data, double t, double cj, cons
   for (size_t ei = 0; ei < model.elements().size(); ++ei) {
     if (!AddElementJacobian(model, data, ei, t, y, J)) return 1;
   }
+  for (size_t di = 0; di < model.corotated_dampings().size(); ++di) {
+    AddCorotatedDampingJacobian(model, model.corotated_dampings()[di], &data->corotated[di], cj, p,
+                                v, yp + model.z_offset(), jac, ld, dfdyp);
+  }
   ++data->jacobian_evaluations;
   return 0;
 }
@@ -470,6 +474,11 @@ class PatternBuilder {
     }
   }
 
+  void MarkCorotatedDampings() {
+    for (const CorotatedDamping& d : model_.corotated_dampings())
+      MarkCorotatedDamping(model_, d, [this](int r, int c) { mark(r, c); });
+  }
+
   SparsityPattern Finish() const {
     SparsityPattern pat;
     pat.size = N;
@@ -506,6 +515,7 @@ SparsityPattern JacobianPattern(const Mechanism& model) {
   pattern.MarkDrivers();
   pattern.MarkJoints();
   pattern.MarkElements();
+  pattern.MarkCorotatedDampings();
   return pattern.Finish();
 }
 

@@ -113,6 +113,10 @@ ExactRod AddExactRod(MechanismBuilder* b, const ExactRodSpec& spec) {
                                               out.node_markers[e], out.node_markers[e + 1],
                                               out.element));
   }
+  if (spec.modal_damping_coefficients.size() > 0) {
+    b->AddCorotatedDamping(spec.name + ".modal_damping", out.nodes, spec.modal_damping_modes,
+                           spec.modal_damping_coefficients);
+  }
   return out;
 }
 

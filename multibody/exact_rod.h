@@ -10,7 +10,9 @@
 // Node body k's frame: origin at node k, angle = the section angle θ_k (θ_k = θ_rod in the
 // undeformed rod); a point at offset d from node k in the rod frame is a body marker at d.
 // Damping: Kelvin–Voigt on the strain rates (stiffness-proportional, β [s]), the only
-// Rayleigh part that does not damp rigid motion: mode i gets ζ_i = β ω_i / 2.
+// Rayleigh part that does not damp rigid motion: mode i gets ζ_i = β ω_i / 2; and, for modal
+// damping, a co-rotated modal damping of the node bodies (multibody/corotated_damping.h) with
+// modes and coefficients from FitCorotatedModalDamping (multibody/mechanism_modes.h).
 // What does not live here: the element kernel and the static solver (fem/exact_beam.h).
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
@@ -57,6 +59,10 @@ struct ExactRodSpec {
   std::string name;  ///< node bodies are "<name>.node<k>"
   fem::RodSpec rod;  ///< planar; material, section, length, elements, attachments
   double beta{0.0};  ///< Kelvin–Voigt damping of the strain rates [s], >= 0
+  /// Co-rotated modal damping of the node bodies (none if empty): Y (3 num_elements × r) and
+  /// c (r), MechanismBuilder::AddCorotatedDamping.
+  Mat modal_damping_modes;
+  Vec modal_damping_coefficients;
 };
 
 /// What AddExactRod added.

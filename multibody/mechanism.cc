@@ -104,6 +104,9 @@ std::string Mechanism::VariableName(int i) const {
     for (const ElementSlot& e : elements_)
       if (k >= e.state_offset && k < e.state_offset + e.num_states)
         return "z[" + e.name + "." + std::to_string(k - e.state_offset) + "]";
+    for (const CorotatedDamping& d : corotated_)
+      if (k >= d.state_offset && k < d.state_offset + d.num_states())
+        return "z[" + d.name + "." + std::to_string(k - d.state_offset) + "]";
     return "z[?]";
   }
   static const char* kQuad[] = {"dissipated_elements", "dissipated_damping", "driver_work",
@@ -504,6 +507,36 @@ void MechanismBuilder::SetGravity(const Vec2& gravity) {
   CheckNotBuilt();
   Require(gravity.allFinite(), "gravity", gravity.norm(), "must be finite");
   m_.gravity_ = gravity;
+}
+
+void MechanismBuilder::AddCorotatedDamping(const std::string& name,
+                                           const std::vector<BodyId>& bodies, const Mat& modes,
+                                           const Vec& coefficients) {
+  CheckNotBuilt();
+  const std::string key = "corotated_damping[" + name + "]";
+  const int n = static_cast<int>(bodies.size());
+  Require(n >= 2, key + ".bodies", n, "needs at least two bodies");
+  CorotatedDamping d;
+  d.name = name;
+  for (const BodyId b : bodies) {
+    CheckBody(b, key + ".bodies");
+    if (m_.bodies_[b.index].num_modes != 0) {
+      throw InputError(key + ".bodies", m_.bodies_[b.index].name,
+                       "must be rigid (the chain's deformation is its bodies' relative motion)");
+    }
+    d.bodies.push_back(b.index);
+  }
+  Require(modes.rows() == 3 * (n - 1), key + ".modes.rows", static_cast<double>(modes.rows()),
+          "must be 3 (bodies - 1)");
+  Require(modes.cols() == coefficients.size() && coefficients.size() > 0, key + ".coefficients",
+          static_cast<double>(coefficients.size()), "must give one value per mode (column)");
+  Require(modes.allFinite() && coefficients.allFinite(), key, 0.0,
+          "modes and coefficients must be finite");
+  d.modes = modes;
+  d.coefficients = coefficients;
+  d.state_offset = m_.num_element_states_;
+  m_.num_element_states_ += d.num_states();
+  m_.corotated_.push_back(std::move(d));
 }
 
 Mechanism MechanismBuilder::Build() {

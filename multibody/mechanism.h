@@ -306,17 +306,30 @@ struct ElementSlot {
   int joint{-1};  ///< prismatic joint this guide element belongs to, or −1
 };
 
+/// Modal damping of a chain of rigid bodies (the exact rod's node bodies, multibody/exact_rod.h)
+/// on their deformation rates in a frame turning with the first body; the equations are in
+/// multibody/corotated_damping.h. Its r states η (η̇ = w, the modal rates) sit in the z block.
+struct CorotatedDamping {
+  std::string name;
+  std::vector<int> bodies;  ///< body indices, n >= 2; bodies[0] carries the frame
+  Mat modes;                ///< Y, 3(n − 1) × r: modal rates w = Yᵀ ḋ
+  Vec coefficients;         ///< c (r): generalized damping forces −Bᵀ Y diag(c) w
+  int state_offset{0};      ///< first of its r states in z (relative to the z block)
+  int num_states() const { return static_cast<int>(coefficients.size()); }
+};
+
 /// Quadrature states appended to z (energy bookkeeping), in this order.
 enum Quadrature : int {
   kDissipatedElements = 0,  ///< ∫ Σ element dissipation dt [J]
-  kDissipatedDamping = 1,   ///< ∫ Σ q̇ᵀ D q̇ dt (modal/Rayleigh damping) [J]
+  kDissipatedDamping = 1,   ///< ∫ Σ q̇ᵀ D q̇ dt (modal/Rayleigh/co-rotated damping) [J]
   kDriverWork = 2,          ///< ∫ Σ driver torque · θ̇ dt [J]
   kStiffeningWork = 3,  ///< ∫ Σ q̇ᵀ(−F_g(q)) dt (FlexibleBodySpec::geometric_stiffening) [J]
   kNumQuadratures = 4
 };
 
 /// The immutable mechanism. Layout of the DAE unknowns:
-/// y = [p (np) | v (np) | λ (nc) | μ (nc) | z_elements (nze) | z_quadrature (4)].
+/// y = [p (np) | v (np) | λ (nc) | μ (nc) | z_elements (nze) | z_quadrature (4)]; z_elements
+/// holds the force elements' states and the co-rotated dampings' modal states.
 class Mechanism {
  public:
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
@@ -342,6 +355,7 @@ class Mechanism {
   const std::vector<Joint>& joints() const { return joints_; }
   const std::vector<Driver>& drivers() const { return drivers_; }
   const std::vector<ElementSlot>& elements() const { return elements_; }
+  const std::vector<CorotatedDamping>& corotated_dampings() const { return corotated_; }
   const Body& body(BodyId id) const { return bodies_.at(id.index); }
   const Marker& marker(MarkerId id) const { return markers_.at(id.index); }
   const Joint& joint(JointId id) const { return joints_.at(id.index); }
@@ -371,6 +385,7 @@ class Mechanism {
   std::vector<Joint> joints_;
   std::vector<Driver> drivers_;
   std::vector<ElementSlot> elements_;
+  std::vector<CorotatedDamping> corotated_;
   Vec2 gravity_{0.0, 0.0};
   int num_coordinates_{0}, num_constraints_{0}, num_element_states_{0};
   int num_element_memory_{0}, num_element_roots_{0}, max_body_coordinates_{0};
@@ -421,6 +436,12 @@ class MechanismBuilder {
   /// A user force element (e.g. the clearance joint).
   ElementId AddForceElement(const std::string& name, MarkerId i, MarkerId j,
                             std::shared_ptr<const ForceElement> element);
+
+  /// Modal damping of the rigid bodies `bodies` (>= 2, in chain order, the first carrying the
+  /// frame) on their co-rotated deformation rates (multibody/corotated_damping.h): modes Y
+  /// (3(n − 1) × r), coefficients c (r, finite). Throws InputError naming `name`.
+  void AddCorotatedDamping(const std::string& name, const std::vector<BodyId>& bodies,
+                           const Mat& modes, const Vec& coefficients);
 
   /// Gravity acceleration vector [m/s^2]; default off (zero).
   void SetGravity(const Vec2& gravity);

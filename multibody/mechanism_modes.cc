@@ -11,6 +11,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "multibody/corotated_damping.h"
 #include "multibody/dae.h"
 #include "multibody/run_data.h"
 
@@ -99,14 +100,13 @@ MechanismModes CalcMechanismModes(const Mechanism& m, const Vec& p, const std::v
   return out;
 }
 
-Mat ModalDampingForBody(const Mechanism& m, const MechanismModes& modes, BodyId body,
-                        const Vec& zeta) {
-  const Body& b = m.body(body);
-  const int n = b.num_modes;
-  if (!b.flexible || n == 0) {
-    throw InputError("body[" + b.name + "]", "rigid or without elastic coordinates",
-                     "modal damping needs a flexible body");
-  }
+namespace {
+
+/// Q⁻¹ for the modes' parts Q (n × n) that parametrise `what`, after checking the modes, the
+/// ratios and Q's condition.
+Mat InverseModalParts(const Mechanism& m, const MechanismModes& modes, const Mat& Q,
+                      const Vec& zeta, const std::string& what) {
+  const int n = static_cast<int>(Q.rows());
   if (modes.shapes.rows() != m.num_coordinates() ||
       modes.shapes.cols() != modes.frequencies_hz.size()) {
     throw InputError(
@@ -115,11 +115,11 @@ Mat ModalDampingForBody(const Mechanism& m, const MechanismModes& modes, BodyId 
         "must be np x (number of frequencies) of this mechanism");
   }
   if (modes.num_modes() != n) {
-    throw NumericalError("modal damping of body " + b.name + ": the mechanism has " +
-                         std::to_string(modes.num_modes()) + " modes but the body has " +
+    throw NumericalError("modal damping of " + what + ": the mechanism has " +
+                         std::to_string(modes.num_modes()) + " modes but " + what + " has " +
                          std::to_string(n) +
-                         " elastic coordinates; D on q can set one ratio per coordinate only "
-                         "(hold the mechanism's other degrees of freedom)");
+                         " deformation coordinates; damping on them can set one ratio per "
+                         "coordinate only (hold the mechanism's other degrees of freedom)");
   }
   if (zeta.size() != n) {
     throw InputError("zeta", std::to_string(zeta.size()) + " values",
@@ -129,18 +129,62 @@ Mat ModalDampingForBody(const Mechanism& m, const MechanismModes& modes, BodyId 
     Require(std::isfinite(zeta(i)) && zeta(i) >= 0.0, "zeta[" + std::to_string(i) + "]", zeta(i),
             "must be >= 0");
   }
-  const Mat Q = modes.shapes.middleRows(b.coordinate(kFirstMode), n);
   const Vec sigma = Eigen::JacobiSVD<Mat>(Q).singularValues();
   if (!(sigma(n - 1) > kMinReciprocalCondition * sigma(0))) {
-    throw NumericalError("modal damping of body " + b.name +
-                         ": the mechanism modes' elastic parts Q are singular (1/cond = " +
+    throw NumericalError("modal damping of " + what +
+                         ": the mechanism modes' deformation parts Q are singular (1/cond = " +
                          FormatValue(sigma(0) > 0.0 ? sigma(n - 1) / sigma(0) : 0.0) +
-                         "): some mode does not deform the body, so D on q cannot damp it");
+                         "): some mode does not deform it, so damping on its deformation cannot "
+                         "damp that mode");
   }
-  const Mat Qinv = Q.fullPivLu().inverse();
+  return Q.fullPivLu().inverse();
+}
+
+}  // namespace
+
+Mat ModalDampingForBody(const Mechanism& m, const MechanismModes& modes, BodyId body,
+                        const Vec& zeta) {
+  const Body& b = m.body(body);
+  const int n = b.num_modes;
+  if (!b.flexible || n == 0) {
+    throw InputError("body[" + b.name + "]", "rigid or without elastic coordinates",
+                     "modal damping needs a flexible body");
+  }
+  const Mat Q = modes.shapes.middleRows(b.coordinate(kFirstMode), n);
+  const Mat Qinv = InverseModalParts(m, modes, Q, zeta, "body " + b.name);
   const Vec two_zeta_omega = 2.0 * zeta.cwiseProduct(2.0 * std::numbers::pi * modes.frequencies_hz);
   const Mat D = Qinv.transpose() * two_zeta_omega.asDiagonal() * Qinv;
   return 0.5 * (D + D.transpose());
+}
+
+CorotatedModalFit FitCorotatedModalDamping(const Mechanism& m, const MechanismModes& modes,
+                                           const std::vector<BodyId>& bodies, const Vec& p,
+                                           const Vec& zeta, int exact_modes) {
+  if (modes.shapes.rows() != m.num_coordinates()) {
+    throw InputError("mechanism_modes.shapes", std::to_string(modes.shapes.rows()) + " rows",
+                     "must be np of this mechanism");
+  }
+  const Mat Q = CorotatedRateMap(m, bodies, p) * modes.shapes;
+  if (Q.rows() != Q.cols()) {
+    throw NumericalError("modal damping of the chain of " + std::to_string(bodies.size()) +
+                         " bodies: the mechanism has " + std::to_string(modes.num_modes()) +
+                         " modes but the chain " + std::to_string(Q.rows()) +
+                         " deformation coordinates (hold the mechanism's other degrees of "
+                         "freedom)");
+  }
+  const Mat Qinv = InverseModalParts(m, modes, Q, zeta, "the chain");
+  const int n = static_cast<int>(Q.rows());
+  Require(exact_modes >= 1, "exact_modes", exact_modes, "must be >= 1");
+  const int r = std::min(exact_modes, n);
+  const Vec omega = 2.0 * std::numbers::pi * modes.frequencies_hz;
+  CorotatedModalFit out;
+  out.beta = r < n ? 2.0 * zeta(r) / omega(r) : 0.0;
+  out.modes = Qinv.topRows(r).transpose();
+  out.coefficients = 2.0 * zeta.head(r).cwiseProduct(omega.head(r)) -
+                     out.beta * omega.head(r).cwiseProduct(omega.head(r));
+  out.ratios = zeta;
+  out.ratios.tail(n - r) = 0.5 * out.beta * omega.tail(n - r);
+  return out;
 }
 
 }  // namespace flexrod::multibody

@@ -53,4 +53,27 @@ MechanismModes CalcMechanismModes(const Mechanism& m, const Vec& p, const std::v
 Mat ModalDampingForBody(const Mechanism& m, const MechanismModes& modes, BodyId body,
                         const Vec& zeta);
 
+/// Modal damping of a chain of rigid bodies on its co-rotated deformation rates
+/// (multibody/corotated_damping.h) with Kelvin–Voigt damping β of its elements beside it.
+struct CorotatedModalFit {
+  Mat modes;         ///< Y, 3(n − 1) × r, for MechanismBuilder::AddCorotatedDamping
+  Vec coefficients;  ///< c_i = 2 ζ_i ω_i − β ω_i² (r)
+  double beta{0.0};  ///< the elements' Kelvin–Voigt factor [s]
+  Vec ratios;        ///< ζ every mechanism mode gets: ζ_i for i < r, β ω_i / 2 above [-]
+};
+
+/// The damping that gives the mechanism modes 1 … r (r = min(exact_modes, all)) exactly the
+/// ratios ζ_i, when the chain `bodies` — every body of the mechanism that moves with its
+/// crank held, in chain order — is joined by elements whose stiffness is the mechanism's only
+/// stiffness and which carry Kelvin–Voigt damping β (ψᵢᵀ β K ψⱼ = β ω_i² δ_ij): with Q = B(p) Ψ
+/// the modes' co-rotated deformation rates (square: one mode per deformation coordinate),
+/// Y = the first r columns of Q⁻ᵀ (Yᵀ B ψ_j = δ_ij), c_i = 2 ζ_i ω_i − β ω_i², and
+/// β = 2 ζ_r / ω_r fitted to mode r + 1, so that it gets its ratio, and the higher modes
+/// β ω / 2, more than mode r + 1. All modes stay uncoupled (ΨᵀCΨ diagonal; c_i < 0 where
+/// β ω_i² exceeds 2 ζ_i ω_i, with C still positive semi-definite about the reference).
+/// Throws as ModalDampingForBody.
+CorotatedModalFit FitCorotatedModalDamping(const Mechanism& m, const MechanismModes& modes,
+                                           const std::vector<BodyId>& bodies, const Vec& p,
+                                           const Vec& zeta, int exact_modes);
+
 }  // namespace flexrod::multibody

@@ -74,6 +74,9 @@ RunData::RunData(const Mechanism& m) : model(&m) {
     markers[i].C = Mat2X::Zero(2, nb);
     markers[i].AS = Mat2X::Zero(2, n);
   }
+  corotated.resize(m.corotated_dampings().size());
+  for (size_t i = 0; i < corotated.size(); ++i)
+    ResizeCorotatedScratch(m.corotated_dampings()[i], &corotated[i]);
   joints.resize(m.joints().size());
   for (size_t i = 0; i < joints.size(); ++i) {
     const Joint& jt = m.joints()[i];

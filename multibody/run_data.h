@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/eigen.h"
+#include "multibody/corotated_damping.h"
 #include "multibody/force_element.h"
 #include "multibody/mechanism.h"
 
@@ -107,7 +108,8 @@ class RunData {
   std::vector<int> body_markers;       ///< the markers on bodies, which UpdateAll refreshes
   std::vector<JointScratch> joints;
   std::vector<ElementScratch> elements;
-  Vec Q;  ///< applied generalized forces (np)
+  std::vector<CorotatedScratch> corotated;  ///< one per Mechanism::corotated_dampings()
+  Vec Q;                                    ///< applied generalized forces (np)
   /// Per-run element memory (ForceElement::num_memory each, at ElementSlot::memory_offset).
   std::vector<double> element_memory;
   /// Mechanical energy + dissipated − work at the start of the run: the energy balance

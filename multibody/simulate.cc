@@ -153,9 +153,14 @@ void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double 
   yp->setZero(N);
   yp->head(np) = y->segment(np, np);
   Vec r(N);
-  if (CalcResidual(model, data, t, y->data(), yp->data(), r.data()) != 0) {
-    throw NumericalError("consistent derivatives at t = " + FormatValue(t) +
-                         " s: the residual failed (element failure or non-finite forces)");
+  // Twice: ż = f(t, y) first (F5 = ż − f at ż = 0), since the co-rotated dampings' forces
+  // depend on their states' rates.
+  for (int pass = 0; pass < 2; ++pass) {
+    if (CalcResidual(model, data, t, y->data(), yp->data(), r.data()) != 0) {
+      throw NumericalError("consistent derivatives at t = " + FormatValue(t) +
+                           " s: the residual failed (element failure or non-finite forces)");
+    }
+    if (pass == 0) yp->tail(nz) = -r.tail(nz);
   }
   const Vec Q = -r.segment(np, np);  // with v̇ = 0 and λ = 0, F2 = −Q
   const Vec p = y->head(np), v = y->segment(np, np);
@@ -181,12 +186,12 @@ void ComputeConsistentDerivatives(const Mechanism& model, RunData* data, double 
   const Vec sol = lu.solve(rhs);
   yp->segment(np, np) = sol.head(np);
   y->segment(model.lambda_offset(), nc) = sol.tail(nc);
-  // ż = f(t, y) including the driver power, which depends on λ: residual with ż = 0.
+  // ż = f(t, y) including the driver power, which depends on λ: F5 = ż − f.
   if (CalcResidual(model, data, t, y->data(), yp->data(), r.data()) != 0) {
     throw NumericalError("consistent derivatives at t = " + FormatValue(t) +
                          " s: the residual failed");
   }
-  yp->tail(nz) = -r.tail(nz);
+  yp->tail(nz) -= r.tail(nz);
 }
 
 void ProjectOntoConstraints(const Mechanism& model, RunData* data, double t,

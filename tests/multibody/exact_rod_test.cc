@@ -12,6 +12,7 @@
 #include <random>
 
 #include "mb_test_util.h"
+#include "multibody/corotated_damping.h"
 #include "multibody/dae.h"
 #include "multibody/simulate.h"
 
@@ -99,14 +100,18 @@ struct ExactPendulum {
   ExactRod rod;
 };
 
-/// An exact rod pinned at node 0 to the ground, with gravity.
-ExactPendulum BuildExactPendulum(int elements, double beta) {
+/// An exact rod pinned at node 0 to the ground, with gravity; with `modes` (3 elements × r)
+/// and `coefficients` (r) also a co-rotated modal damping of its nodes.
+ExactPendulum BuildExactPendulum(int elements, double beta, const Mat& modes = Mat(),
+                                 const Vec& coefficients = Vec()) {
   MechanismBuilder b;
   ExactRodSpec spec;
   spec.name = "rod";
   spec.rod = SteelRodSpec(0.2, elements);
   spec.rod.attachments.push_back({"tip", elements, 0.05, 1e-6, Vec2(0.01, 0.005)});
   spec.beta = beta;
+  spec.modal_damping_modes = modes;
+  spec.modal_damping_coefficients = coefficients;
   ExactPendulum p;
   p.rod = AddExactRod(&b, spec);
   b.AddRevolute("pivot", b.AddGroundMarker("pivot", Vec2::Zero()), p.rod.node_markers[0]);
@@ -115,10 +120,9 @@ ExactPendulum BuildExactPendulum(int elements, double beta) {
   return p;
 }
 
-// The iteration Jacobian dF/dy + c_j dF/dẏ with the analytic element Jacobian equals central
-// differences of the residual (Richardson-extrapolated) at a deformed, moving state.
-TEST(ExactRod, IterationJacobianMatchesCentralDifferences) {
-  const ExactPendulum p = BuildExactPendulum(4, 2e-5);
+/// Worst column error of the iteration Jacobian dF/dy + c_j dF/dẏ against central differences
+/// of the residual (Richardson-extrapolated) at a deformed, moving state of the pendulum.
+double IterationJacobianError(const ExactPendulum& p) {
   RunData data(p.model);
   std::mt19937 gen(3);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
@@ -150,7 +154,72 @@ TEST(ExactRod, IterationJacobianMatchesCentralDifferences) {
     worst = std::max(worst, err);
     EXPECT_LE(err, 1e-6) << "column " << i << " (" << p.model.VariableName(i) << ")";
   }
-  testing::Record("worst_column_error", worst);
+  // Every non-zero lies inside the sparsity pattern given to KLU.
+  const SparsityPattern pat = JacobianPattern(p.model);
+  Mat inside = Mat::Zero(N, N);
+  for (int col = 0; col < N; ++col)
+    for (int64_t k = pat.col_ptr[col]; k < pat.col_ptr[col + 1]; ++k)
+      inside(pat.row_index[k], col) = 1;
+  for (int r = 0; r < N; ++r) {
+    for (int col = 0; col < N; ++col) {
+      if (J(r, col) != 0.0) {
+        EXPECT_EQ(inside(r, col), 1)
+            << p.model.VariableName(r) << " / " << p.model.VariableName(col);
+      }
+    }
+  }
+  return worst;
+}
+
+// The iteration Jacobian with the analytic element Jacobian equals central differences.
+TEST(ExactRod, IterationJacobianMatchesCentralDifferences) {
+  testing::Record("worst_column_error", IterationJacobianError(BuildExactPendulum(4, 2e-5)));
+}
+
+/// Random modes (3 elements × r) and coefficients for a co-rotated damping of the pendulum.
+std::pair<Mat, Vec> RandomModalDamping(int elements, int r) {
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  Mat Y(3 * elements, r);
+  for (int i = 0; i < Y.size(); ++i) Y.data()[i] = U(gen);
+  Vec c(r);
+  for (int i = 0; i < r; ++i) c(i) = 2.0 + U(gen);
+  return {Y, c};
+}
+
+// With the co-rotated modal damping (multibody/corotated_damping.h): its forces, modal-state rows
+// and dissipation differentiated analytically, in the rates, the positions (the frame's turn and
+// the moment arms) and the states' rates, agree with central differences.
+TEST(ExactRod, IterationJacobianWithCorotatedModalDampingMatchesCentralDifferences) {
+  const auto [Y, c] = RandomModalDamping(4, 3);
+  testing::Record("worst_column_error", IterationJacobianError(BuildExactPendulum(4, 2e-5, Y, c)));
+}
+
+// The co-rotated deformation rates vanish for every rigid motion of the chain (a translation
+// and a rotation about any point), at any pose; a bending rate does not vanish.
+TEST(ExactRod, CorotatedRatesVanishForRigidMotion) {
+  const auto [Y, c] = RandomModalDamping(4, 3);
+  const ExactPendulum p = BuildExactPendulum(4, 0.0, Y, c);
+  const Mechanism& m = p.model;
+  const int np = m.num_coordinates();
+  Vec pose = Vec::Zero(np);
+  SetExactRodPose(m, p.rod, Vec2(0.3, -0.1), 2.1, &pose);
+  pose(m.coordinate(p.rod.nodes[2], kY)) += 1e-3;  // deformed: rigid rates must vanish anyway
+  const Mat B = CorotatedRateMap(m, p.rod.nodes, pose);
+  ASSERT_EQ(B.rows(), 12);
+  const Vec2 velocity(1.5, -0.7), pivot(0.2, 0.4);
+  const double omega = 7.0;
+  Vec v(np);
+  for (const BodyId node : p.rod.nodes) {
+    const Vec2 r(pose(m.coordinate(node, kX)), pose(m.coordinate(node, kY)));
+    const Vec2 vr = velocity + omega * Vec2(-(r - pivot).y(), (r - pivot).x());
+    v(m.coordinate(node, kX)) = vr.x();
+    v(m.coordinate(node, kY)) = vr.y();
+    v(m.coordinate(node, kTheta)) = omega;
+  }
+  EXPECT_LT((B * v).lpNorm<Eigen::Infinity>(), 1e-13 * v.lpNorm<Eigen::Infinity>());
+  v(m.coordinate(p.rod.nodes[2], kY)) += 0.1;  // the middle node moves across the rod
+  EXPECT_GT((B * v).norm(), 0.099);
 }
 
 // A free, undamped exact rod, spinning at 40 rad/s about its centre and vibrating in its

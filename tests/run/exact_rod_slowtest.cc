@@ -87,6 +87,35 @@ TEST(ExactRodReference, FlexibleRigReducedRodMatchesTheExactRod) {
   EXPECT_NEAR(reduced.stress_peak, exact.stress_peak, 0.03 * exact.stress_peak);
 }
 
+// The default band damping on both rods (the main job, one member; the figures the README
+// quotes). Both realise the band's ratios on the mechanism's modes (the exact rod exactly up to
+// the first critical mode, tests/mechanisms/mechanism_damping_reftest.cc), yet they differ: the
+// modal ratios of the constrained mechanism do not fix the damping of a small end flying free in
+// its clearance, and the reduced rod has no modes above its basis (mechanisms/mechanism_damping.h
+// has the measurements). This holds the README's figures to 1 % and the gap to what it is:
+// the exact rod above the reduced rod on all three (measured +3.5 %, +11.7 %, +6.6 %), so that
+// a change that closes or opens it is seen. Issue 57's 2 % is not met.
+TEST(ExactRodReference, MainJobWithBandDampingOnBothRods) {
+  auto figures = [](const std::string& rod_type) {
+    const Config cfg = LoadRunInput("flexible-rig", {"rod.type=" + rod_type, "ensemble.members=1"});
+    const RunResult r = RunSimulation(cfg, nullptr, false, RunOutputOptions{});
+    EXPECT_TRUE(r.ok()) << r.status.Summary();
+    const nlohmann::json& a = r.summary["load_amplification"];
+    return std::vector<double>{a["slider_acceleration_positive"].get<double>(),
+                               a["slider_acceleration_negative"].get<double>(),
+                               a["bearing_force"].get<double>()};
+  };
+  const std::vector<double> reduced = figures("flexible"), exact = figures("exact");
+  const std::vector<double> readme_reduced = {7.67, 6.00, 7.63}, readme_exact = {7.94, 6.70, 8.13};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(reduced[k], readme_reduced[k], 0.01 * readme_reduced[k]) << k;
+    EXPECT_NEAR(exact[k], readme_exact[k], 0.01 * readme_exact[k]) << k;
+    static const char* const kNames[] = {
+        "exact_over_reduced_positive", "exact_over_reduced_negative", "exact_over_reduced_bearing"};
+    ::testing::Test::RecordProperty(kNames[k], std::to_string(exact[k] / reduced[k]));
+  }
+}
+
 // The same for issue 23's second case: brass 12.7 mm, 0.5 mm, 250 rpm (impact bearing forces
 // near 1.9 kN, above the rod's buckling load), over 5 s (20.8 revolutions). This regime is
 // chaotic: a round-off-level change moves a run's figures by up to 3 %, as much as the bound.
