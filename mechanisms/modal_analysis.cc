@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "mechanisms/mechanism_damping.h"
+#include "mechanisms/mechanism_model.h"
 #include "mechanisms/rod_config.h"
 
 namespace flexrod {
@@ -68,6 +70,11 @@ ModalAnalysis AnalyseModes(const Config& cfg) {
   if (count == 0) count = std::max(10, reduced.num_coordinates());
   count = std::min(count, free_dofs);
   a.rows = fem::CompareWithFullModel(reduced, count);
+  if (rod.dim == fem::MeshDim::kPlanar && DampingRefersToMechanism(cfg)) {
+    const MechanismModel mm = BuildMechanism(cfg, nullptr, /*ideal_joint=*/true);
+    a.mechanism_hz = mm.mechanism_frequencies_hz;
+    a.mechanism_ratios = mm.mechanism_damping_ratios;
+  }
   return a;
 }
 
@@ -76,17 +83,15 @@ nlohmann::json ModesJson(const Config& cfg, const ModalAnalysis& analysis) {
   nlohmann::json inputs;
   for (const auto& r : cfg.Resolve()) {
     if (r.key.rfind("rod.", 0) == 0 || r.key.rfind("reduction.", 0) == 0 ||
-        r.key.rfind("modes.", 0) == 0) {
+        r.key.rfind("modes.", 0) == 0 || r.key.rfind("damping.", 0) == 0) {
       inputs[r.key] = {{"value", r.value}, {"unit", r.unit}};
     }
   }
   j["inputs"] = inputs;
   j["num_coordinates"] = analysis.num_coordinates;
-  j["units"] = {{"full_hz", "Hz"},
-                {"reduced_hz", "Hz"},
-                {"rel_error", "1"},
-                {"mac", "1"},
-                {"effective_mass", "kg"}};
+  j["units"] = {{"full_hz", "Hz"},     {"reduced_hz", "Hz"},     {"rel_error", "1"},
+                {"mac", "1"},          {"effective_mass", "kg"}, {"frequency_hz", "Hz"},
+                {"damping_ratio", "1"}};
   auto num = [](double v) {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
   };
@@ -98,6 +103,12 @@ nlohmann::json ModesJson(const Config& cfg, const ModalAnalysis& analysis) {
                           {"mac", num(r.mac)},
                           {"effective_mass", num(r.effective_mass)},
                           {"rigid_body", r.rigid_body}});
+  }
+  j["mechanism_modes"] = nlohmann::json::array();
+  for (int i = 0; i < analysis.mechanism_hz.size(); ++i) {
+    j["mechanism_modes"].push_back({{"mode", i + 1},
+                                    {"frequency_hz", num(analysis.mechanism_hz(i))},
+                                    {"damping_ratio", num(analysis.mechanism_ratios(i))}});
   }
   return j;
 }

@@ -29,13 +29,20 @@ struct ModalAnalysis {
   int num_coordinates{0};                ///< of the reduced rod
   std::vector<fem::ModeReportRow> rows;  ///< per mode: frequencies [Hz], error, MAC, mass [kg]
   std::string warning;                   ///< the mesh's precision warning, "" if none
+  /// The run's rod in its assembled mechanism (mechanism.type with an ideal small-end joint, crank
+  /// held at angle 0: the modes damping.type = ratio | band | material refers to,
+  /// mechanisms/mechanism_damping.h), and the ratio each gets; empty for a rigid rod or
+  /// damping.type = rayleigh | none.
+  Vec mechanism_hz;      ///< [Hz], ascending
+  Vec mechanism_ratios;  ///< ζ [-]
 };
 
 /// The analysis of `cfg`'s rod (InputError for bad keys, before any work).
 ModalAnalysis AnalyseModes(const Config& cfg);
 
-/// {"inputs": the rod.*, reduction.*, modes.* keys with value and unit, "num_coordinates",
-/// "units", "modes": [{mode, full_hz, reduced_hz, rel_error, mac, effective_mass, rigid_body}]};
+/// {"inputs": the rod.*, reduction.*, modes.*, damping.* keys with value and unit,
+/// "num_coordinates", "units", "modes": [{mode, full_hz, reduced_hz, rel_error, mac,
+/// effective_mass, rigid_body}], "mechanism_modes": [{mode, frequency_hz, damping_ratio}]};
 /// non-finite numbers are null. `flexrod modes --json` writes it.
 nlohmann::json ModesJson(const Config& cfg, const ModalAnalysis& analysis);
 

@@ -208,7 +208,10 @@ def modes(config: Union[str, os.PathLike, None] = None, **flags: Any) -> dict:
     Returns what `flexrod modes --json` writes ("inputs", "num_coordinates", "units") with the
     table as numpy arrays: "mode" (int), "full_hz" [Hz], "reduced_hz" [Hz], "rel_error" [1],
     "mac" [1], "effective_mass" [kg] (float64, NaN where undefined), "rigid_body" (bool);
-    "warning" ("" if none). Raises InputError for bad flags.
+    the run's rod in its assembled mechanism (crank held at 0, ideal small-end joint) as
+    "mechanism_frequency_hz" [Hz] and the ratio damping.* gives each, "mechanism_damping_ratio"
+    [1] (empty for a rigid rod or Rayleigh damping); "warning" ("" if none). Raises InputError
+    for bad flags.
     """
     raw = _flexrod.modes("" if config is None else os.fspath(config),
                          [(k, _text(v)) for k, v in flags.items()])
@@ -219,6 +222,11 @@ def modes(config: Union[str, os.PathLike, None] = None, **flags: Any) -> dict:
         out[col] = np.array([np.nan if r[col] is None else r[col] for r in rows],
                             dtype=np.float64)
     out["rigid_body"] = np.array([r["rigid_body"] for r in rows], dtype=bool)
+    mechanism = out.pop("mechanism_modes", None) or []
+    out["mechanism_frequency_hz"] = np.array([m["frequency_hz"] for m in mechanism],
+                                             dtype=np.float64)
+    out["mechanism_damping_ratio"] = np.array([m["damping_ratio"] for m in mechanism],
+                                              dtype=np.float64)
     return out
 
 

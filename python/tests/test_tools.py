@@ -28,6 +28,10 @@ def test_modes_equals_the_clis_json(tmp_path):
         expected = np.array([np.nan if r[col] is None else r[col] for r in ref["modes"]])
         assert np.array_equal(m[col], expected, equal_nan=True), col
     assert list(m["rigid_body"]) == [r["rigid_body"] for r in ref["modes"]]
+    mechanism = ref["mechanism_modes"]
+    assert len(mechanism) > 0
+    assert list(m["mechanism_frequency_hz"]) == [r["frequency_hz"] for r in mechanism]
+    assert list(m["mechanism_damping_ratio"]) == [r["damping_ratio"] for r in mechanism]
 
 
 def test_modes_bad_flag_and_value_raise_input_error():

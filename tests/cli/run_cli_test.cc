@@ -15,6 +15,7 @@
 
 #include "common/hdf5.h"
 #include "io/run_writer.h"
+#include "multibody/mechanism.h"
 #include "sweep/sweep_store.h"
 #include "tests/test_util.h"
 
@@ -231,6 +232,20 @@ TEST(ModesCli, JsonHasTheDocumentedKeys) {
   EXPECT_LT(r1 / f1 - 1, 1e-5);  // 8 fixed-interface modes
   EXPECT_GT(j["modes"][0]["mac"].get<double>(), 0.9999);
   EXPECT_EQ(j["inputs"]["rod.material"]["value"], "brass");
+  // The run's rod in its mechanism, with the band's ratio of each mode (issue 57 item 3): the
+  // ratios are the band's at each frequency, 1 % on the first (below 70.7 Hz), critical above
+  // 1.414 kHz, in between where the band is smooth.
+  ASSERT_GE(j["mechanism_modes"].size(), 5u);
+  const flexrod::multibody::DampingSpec band = flexrod::multibody::DampingSpec::FrequencyBand();
+  double previous = 0.0;
+  for (const auto& m : j["mechanism_modes"]) {
+    const double f = m["frequency_hz"], zeta = m["damping_ratio"];
+    EXPECT_GT(f, previous);
+    previous = f;
+    EXPECT_DOUBLE_EQ(zeta, band.BandRatio(f)) << f << " Hz";
+  }
+  EXPECT_EQ(j["mechanism_modes"][0]["damping_ratio"].get<double>(), 0.01);
+  EXPECT_EQ(j["units"]["frequency_hz"], "Hz");
   fs::remove_all(dir);
 }
 
