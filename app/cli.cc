@@ -2,10 +2,13 @@
 #include <gsl/gsl_errno.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include "app/commands.h"
 #include "common/error.h"
+#include "common/hdf5.h"
 
 namespace flexrod::app {
 namespace {
@@ -70,25 +73,34 @@ int Main(int argc, char** argv) {
     std::cerr << "flexrod: error: " << e.what() << "\n";
     return 2;
   }
-  try {
-    CheckOptionValues(app);
-    return handler ? handler() : 2;
-  } catch (const InputError& e) {
-    std::cerr << "flexrod: error: " << e.what() << "\n";
-    return 2;
-  } catch (const NumericalError& e) {
-    std::cerr << "flexrod: numerical failure: " << e.what() << "\n";
-    return 1;
-  } catch (const IoError& e) {
-    std::cerr << "flexrod: I/O error: " << e.what() << "\n";
-    return 3;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "flexrod: internal error: out of memory\n";
-    return 4;
-  } catch (const std::exception& e) {
-    std::cerr << "flexrod: internal error (please report it): " << e.what() << "\n";
-    return 4;
+  const int code = [&] {
+    try {
+      CheckOptionValues(app);
+      return handler ? handler() : 2;
+    } catch (const InputError& e) {
+      std::cerr << "flexrod: error: " << e.what() << "\n";
+      return 2;
+    } catch (const NumericalError& e) {
+      std::cerr << "flexrod: numerical failure: " << e.what() << "\n";
+      return 1;
+    } catch (const IoError& e) {
+      std::cerr << "flexrod: I/O error: " << e.what() << "\n";
+      return 3;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "flexrod: internal error: out of memory\n";
+      return 4;
+    } catch (const std::exception& e) {
+      std::cerr << "flexrod: internal error (please report it): " << e.what() << "\n";
+      return 4;
+    }
+  }();
+  if (h5::CloseFailed()) {  // HDF5's clean-up at exit would crash on the file it still holds
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    std::_Exit(code);
   }
+  return code;
 }
 
 }  // namespace flexrod::app

@@ -3,9 +3,11 @@
 
 #include <hdf5.h>
 #include <libdeflate.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <thread>
@@ -18,12 +20,79 @@ namespace {
 constexpr unsigned kDeflateLevel = 1;
 constexpr hsize_t kChunkRows = 65536;
 
+/// The operating system's reason for the failure on HDF5's error stack (the file drivers
+/// record it as "error message = '<strerror>'"), or "" if there is none.
+std::string SystemReason() {
+  std::string reason;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_DOWNWARD,
+      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+        const std::string desc = e->desc != nullptr ? e->desc : "";
+        const std::string tag = "error message = '";
+        const size_t p = desc.find(tag);
+        if (p != std::string::npos) {
+          const size_t q = desc.find('\'', p + tag.size());
+          *static_cast<std::string*>(data) = desc.substr(p + tag.size(), q - p - tag.size());
+        }
+        return 0;
+      },
+      &reason);
+  return reason;
+}
+
+/// HDF5 calls that failed so far on this thread (a Node notes the count at its file's creation;
+/// a file is written, and closed, on the thread that created it).
+thread_local long g_failures = 0;
+
+[[noreturn]] void Fail(const char* call, const std::string& what) {
+  ++g_failures;
+  const std::string reason = SystemReason();
+  H5Eclear2(H5E_DEFAULT);
+  throw IoError(std::string("HDF5 ") + call + " failed for '" + what + "'" +
+                (reason.empty() ? "" : ": " + reason));
+}
+
 hid_t Check(hid_t id, const char* call, const std::string& what) {
-  if (id < 0) throw IoError(std::string("HDF5 ") + call + " failed for '" + what + "'");
+  if (id < 0) Fail(call, what);
   return id;
 }
 void CheckStatus(herr_t st, const char* call, const std::string& what) {
-  if (st < 0) throw IoError(std::string("HDF5 ") + call + " failed for '" + what + "'");
+  if (st < 0) Fail(call, what);
+}
+
+std::atomic<bool> g_close_failed{false};
+
+/// Closes a file; false, with the system's reason in *reason, if it fails (its buffered writes
+/// cannot be flushed: a full disk). A failed H5Fclose leaves HDF5 (1.10) holding a half-freed
+/// file whose metadata cache cannot be flushed again ("slist already enabled"), and its
+/// clean-up at exit crashes on it. So a file flexrod created (`created`) that a write failed on
+/// since (`write_failed`) is truncated through its descriptor first, which frees its blocks, so
+/// that the close (writing the little metadata left) succeeds; it is then removed: what failed to
+/// be written is not kept half written. A file opened to append to (a sweep store) is never
+/// truncated: what it held stays; if its close fails, CloseFailed() says so.
+bool CloseFile(hid_t id, bool created, bool write_failed, std::string* reason) {
+  std::string path;
+  if (created) {
+    path.assign(4096, '\0');
+    const ssize_t n = H5Fget_name(id, path.data(), path.size());
+    path.resize(n > 0 ? static_cast<size_t>(n) : 0);
+  }
+  if (created && write_failed) {
+    void* handle = nullptr;
+    if (H5Fget_vfd_handle(id, H5P_DEFAULT, &handle) >= 0 && handle != nullptr &&
+        ftruncate(*static_cast<int*>(handle), 0) != 0) {
+      // Nothing could be freed: the close below may fail as the write did.
+    }
+  }
+  bool failed = write_failed;
+  if (H5Fclose(id) < 0) {
+    if (reason != nullptr) *reason = SystemReason();
+    failed = true;
+    g_close_failed = true;
+  }
+  H5Eclear2(H5E_DEFAULT);
+  if (failed && !path.empty()) std::remove(path.c_str());
+  return !failed;
 }
 
 struct Handle {  // closes any hid_t with the given closer
@@ -56,8 +125,8 @@ void WriteUnit(hid_t set, const std::string& unit, const std::string& name) {
   CheckStatus(H5Awrite(attr.id, ts.id, unit.c_str()), "H5Awrite", name + ".unit");
 }
 
-void SilenceErrors() {
-  static bool done = false;
+void SilenceErrors() {  // per thread: a thread-safe HDF5 keeps an error stack per thread
+  thread_local bool done = false;
   if (!done) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     done = true;
@@ -71,6 +140,8 @@ Node& Node::operator=(Node&& o) noexcept {
     this->~Node();
     id_ = o.id_;
     is_file_ = o.is_file_;
+    created_ = o.created_;
+    failures_at_open_ = o.failures_at_open_;
     o.id_ = -1;
   }
   return *this;
@@ -79,7 +150,7 @@ Node& Node::operator=(Node&& o) noexcept {
 Node::~Node() {
   if (id_ < 0) return;
   if (is_file_) {
-    H5Fclose(id_);
+    CloseFile(id_, created_, g_failures != failures_at_open_, nullptr);
   } else {
     H5Gclose(id_);
   }
@@ -92,7 +163,11 @@ void Node::Close(const std::string& what) {
   id_ = -1;
   if (is_file_) {
     // Flushes every buffered write: a full disk or a failed write surfaces here.
-    CheckStatus(H5Fclose(id), "H5Fclose", what);
+    std::string reason;
+    if (!CloseFile(id, created_, g_failures != failures_at_open_, &reason)) {
+      throw IoError("HDF5 H5Fclose failed for '" + what + "'" +
+                    (reason.empty() ? "" : ": " + reason));
+    }
   } else {
     CheckStatus(H5Gclose(id), "H5Gclose", what);
   }
@@ -107,10 +182,15 @@ void Node::LinkExternal(const std::string& name, const std::string& file,
 
 Node CreateFile(const std::string& path) {
   SilenceErrors();
-  return Node(
+  Node file(
       Check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "H5Fcreate", path),
       true);
+  file.created_ = true;
+  file.failures_at_open_ = g_failures;
+  return file;
 }
+
+bool CloseFailed() { return g_close_failed; }
 
 Node OpenFile(const std::string& path, bool writable) {
   SilenceErrors();

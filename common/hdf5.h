@@ -17,7 +17,7 @@ class Node {
  public:
   Node() = default;
   Node(long long id, bool is_file) : id_(id), is_file_(is_file) {}
-  Node(Node&& o) noexcept : id_(o.id_), is_file_(o.is_file_) { o.id_ = -1; }
+  Node(Node&& o) noexcept : id_(o.id_), is_file_(o.is_file_), created_(o.created_) { o.id_ = -1; }
   Node& operator=(Node&& o) noexcept;
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
@@ -25,7 +25,8 @@ class Node {
   long long id() const { return id_; }
 
   /// Closes now and checks it (a file's buffered writes fail here, e.g. on a full disk);
-  /// `what` names the object in the error. The destructor closes unchecked.
+  /// `what` names the object in the error, with the system's reason. The destructor closes
+  /// unchecked. A file CreateFile made that fails to close is removed.
   void Close(const std::string& what);
   bool HasChild(const std::string& name) const;
   /// True if `name` is an external link (LinkExternal).
@@ -62,13 +63,20 @@ class Node {
   bool HasAttr(const std::string& name) const;
 
  private:
+  friend Node CreateFile(const std::string& path);
   long long id_{-1};
   bool is_file_{false};
+  bool created_{false};       ///< a file CreateFile made (removed if it fails to close)
+  long failures_at_open_{0};  ///< failed HDF5 calls before it was created
 };
 
 /// Creates (truncates) a file.
 Node CreateFile(const std::string& path);
 /// Opens an existing file read-only, or read-write.
 Node OpenFile(const std::string& path, bool writable = false);
+/// True if a file is still held open by HDF5 after its close failed (a full disk under a file
+/// opened to append to): HDF5's clean-up at exit would crash on it, so the process must leave
+/// without it (app/cli.cc ends with std::_Exit then).
+bool CloseFailed();
 
 }  // namespace flexrod::h5

@@ -380,6 +380,8 @@ PYBIND11_MODULE(_flexrod, m) {
       RaisePython("InputError", e.key(), e.value(), e.rule());
     } catch (const flexrod::NumericalError& e) {
       RaisePython("NumericalError", std::string(e.what()));
+    } catch (const flexrod::IoError& e) {
+      RaisePython("IoError", std::string(e.what()));
     } catch (const flexrod::Interrupted& e) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     }

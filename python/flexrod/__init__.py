@@ -15,7 +15,8 @@ Functions: run, keys, modes, contact, sweep, open_store. Values take units as te
 ("25.4 mm", "250 rpm", "200 GPa"); bare numbers are SI. Everything returned is SI, with the
 unit beside it (Run.units, "units" entries). Bad input raises InputError (a ValueError) with
 .key, .value, .rule before any work; a run's numerical failure raises NumericalError with
-.time [s], .state, .hint and the partial .run. Runs and sweeps release the GIL and stop on
+.time [s], .state, .hint and the partial .run; a file that cannot be written raises IoError (an
+OSError) naming it and the system's reason. Runs and sweeps release the GIL and stop on
 Ctrl-C (KeyboardInterrupt; a sweep keeps its finished runs and resumes).
 """
 
@@ -29,6 +30,7 @@ import numpy as np
 
 __all__ = [
     "InputError",
+    "IoError",
     "NumericalError",
     "Run",
     "StoredRun",
@@ -59,6 +61,12 @@ class InputError(ValueError):
 
     def __reduce__(self):
         return (type(self), (self.key, self.value, self.rule))
+
+
+class IoError(OSError):
+    """A file that cannot be written or read (a full disk, no permission, a file that is not
+    flexrod's): the message names the file and the system's reason. What finished before it is
+    kept."""
 
 
 class NumericalError(RuntimeError):

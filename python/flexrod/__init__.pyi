@@ -19,6 +19,9 @@ class InputError(ValueError):
     rule: str
     def __init__(self, key: str, value: str, rule: str) -> None: ...
 
+class IoError(OSError):
+    """A file that cannot be written or read: the message names the file and the reason."""
+
 class NumericalError(RuntimeError):
     """A numerical failure; `run` holds everything computed up to it."""
 
