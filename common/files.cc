@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -60,10 +61,28 @@ void InjectedFault(const std::string& tmp, const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+/// IoError (the temporary removed) if `path` exists and is not a regular file: renaming over it
+/// would replace a FIFO, a device or a link (checked again at the write, after the up-front
+/// CheckCanWriteFile).
+void RefuseToReplace(const std::string& tmp, const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st)) {
+    fs::remove(tmp, ec);
+    throw IoError(path + " is not a regular file (a FIFO, device, socket or link): not replaced");
+  }
+}
+
+}  // namespace
+
 void WriteFileAtomic(const std::string& path, const std::string& content) {
   const std::string tmp = path + ".tmp";
   WriteTemporary(tmp, content, path);
   InjectedFault(tmp, path);
+  RefuseToReplace(tmp, path);
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     const int e = errno;
     std::remove(tmp.c_str());
@@ -79,6 +98,7 @@ void WriteFileDurable(const std::string& path, const std::string& content) {
 
 void CommitFile(const std::string& tmp, const std::string& path) {
   InjectedFault(tmp, path);
+  RefuseToReplace(tmp, path);
   FsyncPath(tmp, false);
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
@@ -98,11 +118,50 @@ void EnsureDirectory(const std::string& key, const std::string& path) {
   }
 }
 
-void CheckCanWriteFile(const std::string& key, const std::string& path) {
+void CheckPathLength(const std::string& key, const std::string& path, std::size_t reserve) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(key, path, "is a directory, not a file");
+  const fs::path abs = fs::absolute(path, ec);
+  const std::string& whole = ec ? path : abs.native();
+  if (whole.size() + reserve >= PATH_MAX) {
+    throw InputError(key, path,
+                     "is " + std::to_string(whole.size()) +
+                         " bytes long as an absolute path; the "
+                         "system allows " +
+                         std::to_string(PATH_MAX - 1 - reserve) + " here");
+  }
+  const fs::path name = fs::path(path).filename();
+  for (const fs::path& part : fs::path(whole)) {
+    const std::size_t limit = NAME_MAX - (part == name ? reserve : 0);
+    if (part.native().size() > limit) {
+      throw InputError(key, path,
+                       "has a name of " + std::to_string(part.native().size()) +
+                           " bytes; the file system allows " + std::to_string(limit) + " here");
+    }
+  }
+}
+
+void CheckCanWriteFile(const std::string& key, const std::string& path) {
+  namespace fs = std::filesystem;
+  CheckPathLength(key, path, kCompanionSuffix);
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(path, ec))) {
+    throw InputError(key, path,
+                     "is a symbolic link: flexrod writes a temporary beside its output and renames "
+                     "it over it, which would replace the link (/dev/stdout is one); give the "
+                     "target's path");
+  }
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_directory(status)) throw InputError(key, path, "is a directory, not a file");
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    throw InputError(key, path,
+                     "is a FIFO, device or socket, not a regular file: flexrod writes a temporary "
+                     "beside its output and renames it over it, which would replace it");
+  }
   const fs::path parent = fs::absolute(path, ec).parent_path();
+  if (fs::exists(parent, ec) && !fs::is_directory(parent, ec)) {
+    throw InputError(key, path, "its directory " + parent.string() + " is a file");
+  }
   if (!fs::is_directory(parent, ec)) {
     throw InputError(key, path, "its directory " + parent.string() + " does not exist");
   }
@@ -113,6 +172,7 @@ void CheckCanWriteFile(const std::string& key, const std::string& path) {
 
 void CheckCanCreateDirectory(const std::string& key, const std::string& dir) {
   namespace fs = std::filesystem;
+  CheckPathLength(key, dir);
   std::error_code ec;
   fs::path p = fs::absolute(dir, ec);
   if (ec) throw InputError(key, dir, "is not a usable path: " + ec.message());

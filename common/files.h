@@ -5,6 +5,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace flexrod {
@@ -23,13 +24,25 @@ void CommitFile(const std::string& tmp, const std::string& path);
 /// Creates a directory and its parents if missing. Throws InputError(key, path, ...) on failure.
 void EnsureDirectory(const std::string& key, const std::string& path);
 
+/// Bytes a written file's name may grow by: its temporary (".tmp") and a sweep store's companions
+/// (".parts", ".summary.csv").
+inline constexpr std::size_t kCompanionSuffix = 16;
+
+/// InputError naming `key` if `path` cannot name a file here: a component longer than the file
+/// system's NAME_MAX bytes (255; the last one `reserve` bytes less, for the names flexrod derives
+/// from it), or the absolute path longer than PATH_MAX with `reserve`. Input and output names are
+/// checked with it before any work (the system's "File name too long" came after it).
+void CheckPathLength(const std::string& key, const std::string& path, std::size_t reserve = 0);
+
 /// InputError naming `key` unless `dir` is a directory or can be created as one (its nearest
 /// existing ancestor is a writable directory). Creates nothing: output locations are checked
 /// before the work, and written after it.
 void CheckCanCreateDirectory(const std::string& key, const std::string& dir);
 
-/// InputError naming `key` unless `path` can be written as a file: not a directory, in an
-/// existing writable directory. Creates nothing (checked before the work, written after it).
+/// InputError naming `key` unless `path` can be written as a file: a name the system allows
+/// (CheckPathLength), not a symbolic link, directory, FIFO, device or socket (its temporary would
+/// be renamed over it), in an existing writable directory. Creates nothing (checked before the
+/// work, written after it).
 void CheckCanWriteFile(const std::string& key, const std::string& path);
 
 }  // namespace flexrod

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/files.h"
 #include "input/toml_value.h"
 
 namespace flexrod {
@@ -85,6 +86,10 @@ void Flatten(const toml::table& t, const std::string& prefix, Config* cfg) {
         prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
     if (const toml::table* sub = v.as_table()) {
       Flatten(*sub, key, cfg);
+    } else if (const toml::array* a = v.as_array(); a != nullptr && a->is_array_of_tables()) {
+      throw InputError(key, "[[" + key + "]]",
+                       "an array of tables is not allowed here: write [" + key +
+                           "] once, with its keys beneath it");
     } else {
       cfg->Set(key, ValueText(v, key));
     }
@@ -156,10 +161,18 @@ void Config::SetAssignment(const std::string& assignment) {
 }
 
 void Config::LoadToml(const std::string& toml_text, const std::string& origin) {
-  Flatten(ParseToml(toml_text, origin, "(file)"), "", this);
+  const toml::table t = ParseToml(toml_text, origin, "(file)");
+  if (t.contains("sweep") || t.contains("axes")) {
+    throw InputError("input file", origin,
+                     "is a sweep matrix ([sweep], [axes]), not a run input: run it with "
+                     "`flexrod sweep " +
+                         origin + "`");
+  }
+  Flatten(t, "", this);
 }
 
 void Config::LoadTomlFile(const std::string& path) {
+  CheckPathLength("input file", path);
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "common/error.h"
+#include "common/files.h"
 
 namespace flexrod {
 
@@ -30,7 +31,7 @@ Config LoadRunInput(const std::string& input, const std::vector<std::string>& se
   Config cfg;
   if (const Preset* p = FindRunPreset(input)) {
     cfg.LoadToml(p->toml, "preset " + input);
-  } else if (std::filesystem::exists(input)) {
+  } else if (CheckPathLength("input", input); std::filesystem::exists(input)) {
     cfg.LoadTomlFile(input);
   } else {
     throw InputError("input", input,

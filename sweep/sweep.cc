@@ -140,6 +140,7 @@ void RunOnThreads(int jobs, const std::function<std::optional<int>()>& next,
 
 SweepSession::SweepSession(const SweepMatrix& matrix, const std::string& store_path)
     : matrix_(matrix), store_path_(store_path), parts_dir_(store_path + ".parts") {
+  CheckPathLength("--out", store_path, kCompanionSuffix);
   if (fs::exists(store_path) && !StoreIndex::IsStore(store_path)) {
     throw InputError("--out", store_path,
                      "exists and is not a flexrod sweep store: choose another file");

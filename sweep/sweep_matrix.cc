@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/files.h"
 #include "input/options.h"
 #include "input/presets.h"
 #include "input/toml_value.h"
@@ -386,7 +387,9 @@ void LoadBase(const std::string& base_dir, SweepMatrix* m) {
   } else {
     fs::path path(m->base);
     if (path.is_relative()) path = fs::path(base_dir) / path;
-    if (!fs::is_regular_file(path)) {
+    CheckPathLength("sweep.base", path.string());
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
       throw InputError("sweep.base", m->base,
                        "is neither a preset (" + RunPresetNames() + ") nor a readable TOML file");
     }
@@ -577,7 +580,9 @@ SweepMatrix LoadSweepMatrix(const std::string& name_or_path,
     if (const Preset* p = FindPreset(name_or_path))
       return ParseSweepMatrix(p->toml, name_or_path, ".", extra_sets);
   }
-  if (!fs::is_regular_file(name_or_path)) {
+  CheckPathLength("sweep matrix", name_or_path);
+  std::error_code ec;
+  if (!fs::is_regular_file(name_or_path, ec)) {
     std::vector<std::string> builtin;
     for (const Preset& p : Presets()) {
       if (p.name.rfind("sweep-", 0) == 0) builtin.push_back(p.name);

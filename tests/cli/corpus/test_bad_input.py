@@ -46,6 +46,10 @@ MEMORY = None if "ASAN_OPTIONS" in os.environ else 4 << 30
 # {src} the source tree. As the content of an input file: STORE a small sweep store, RUNH5 the
 # run.h5 of a tiny run, CUT the first 5000 bytes of that store (made once per session).
 STORE, RUNH5, CUT = object(), object(), object()
+# As the content of a file: a FIFO (os.mkfifo) there instead; a symbolic link to "plain".
+FIFO, LINK = object(), object()
+# A name longer than the file systems allow for one (NAME_MAX = 255 bytes).
+LONG = "n" * 300
 
 # Every case gets these inputs in its directory: a regular file (a location that cannot be a
 # directory) and an empty directory.
@@ -91,6 +95,13 @@ def R(cid, kv, expect, input=None, extra=(), out=True, files=None, xfail=None, r
 
 
 RUN = [
+    # issue 60 items 4 and 6: names the system cannot hold, a matrix or an array of tables
+    R("input-name-too-long", [], ["input = " + LONG + ".toml", "255"], input=LONG + ".toml"),
+    R("out-name-too-long", [], ["--out = {tmp}/" + LONG, "255"], out=False,
+      extra=["--no-plot", "--out", "{tmp}/" + LONG]),
+    R("vtk-name-too-long", [], ["--vtk = {tmp}/" + LONG, "255"], extra=["--vtk", "{tmp}/" + LONG]),
+    R("array-of-tables", [], ["[[rod]]", "array of tables is not allowed"],
+      input="{tmp}/a.toml", files={"a.toml": '[[rod]]\nheight = "1 mm"\n'}),
     # unknown and misspelt keys
     R("unknown-key", ["rod.colour=red"], ["rod.colour", "unknown key"]),
     R("misspelt-key", ["rod.heigth=3mm"], ["rod.heigth", "unknown key"]),
@@ -337,9 +348,10 @@ RUN = [
     R("directory-as-input", [], ["{tmp}/adir", "regular"], input="{tmp}/adir"),
     R("device-as-input", [], ["/dev/null", "regular"], input="/dev/null"),
     R("builtin-matrix-as-input", [], ["sweep-small"], input="sweep-small"),
-    R("matrix-file-as-input", [], ["axes.drive.speed", "unknown key"],
+    R("matrix-file-as-input", [], ["sweep-small.toml", "is a sweep matrix", "flexrod sweep"],
       input="{src}/examples/sweep-small.toml"),
-    R("tmp-matrix-as-input", [], ["axes.rod.height", "unknown key"], input="{tmp}/m.toml",
+    R("tmp-matrix-as-input", [], ["{tmp}/m.toml", "is a sweep matrix", "flexrod sweep"],
+      input="{tmp}/m.toml",
       files={"m.toml": '[sweep]\nname = "x"\n[axes]\n"rod.height" = ["3 mm"]\n'}),
     R("toml-syntax-error", [], ["bad.toml", "malformed TOML", "line 1"], input="{tmp}/bad.toml",
       files={"bad.toml": "[rod\nheight = "}),
@@ -447,6 +459,14 @@ def M(cid, args, expect, json=True, files=None, xfail=None, rc=2):
 
 
 MODES = [
+    M("json-fifo", ["--json", "{tmp}/fifo"], ["--json = {tmp}/fifo", "FIFO"], json=False,
+      files={"fifo": FIFO}),
+    M("json-symlink", ["--json", "{tmp}/link"], ["--json = {tmp}/link", "symbolic link"],
+      json=False, files={"link": LINK}),
+    M("json-under-a-file", ["--json", "{tmp}/plain/m.json"], ["{tmp}/plain", "is a file"],
+      json=False),
+    M("json-name-too-long", ["--json", "{tmp}/" + LONG], ["--json", "has a name of 300 bytes"],
+      json=False),
     M("height-negative", ["--height", "-3mm"], ["rod.height", "-0.003"]),
     M("height-zero", ["--height", "0"], ["rod.height = 0"]),
     M("height-in-rpm", ["--height", "3 rpm"], ["rod.height", '"3 rpm"']),
@@ -513,15 +533,18 @@ MODES = [
 B = ["--mass", "1", "--velocity", "0.5"]
 
 
-def C(cid, args, expect, out=True, xfail=None, rc=2):
+def C(cid, args, expect, out=True, xfail=None, rc=2, files=None):
     argv = ["contact"] + list(args)
     if out:
         argv += ["--json", "{tmp}/c.json", "--plot", "{tmp}/c.png"]
-    return Case("contact-" + cid, argv, expect, rc=rc, xfail=xfail)
+    return Case("contact-" + cid, argv, expect, rc=rc, xfail=xfail, files=files)
 
 
 
 CONTACT = [
+    C("json-fifo", ["--law", "hertz", "--mass", "1 kg", "--velocity", "1 m/s", "--json",
+                    "{tmp}/fifo.json"], ["--json = {tmp}/fifo.json", "FIFO"], out=False,
+      files={"fifo.json": FIFO}),
     C("law-unknown", ["--law", "hertzian"] + B, ["law", '"hertzian"', "must be one of"]),
     C("law-empty", ["--law", ""] + B, ['law = ""']),
     C("law-missing", B, ["--law", "required"]),
@@ -682,6 +705,9 @@ SMALL = "{src}/examples/sweep-small.toml"
 SHORT = ["--set", "sim.settle=0s", "--set", "sim.capture=0.05s"]
 
 SWEEP = [
+    W("matrix-name-too-long", "{tmp}/" + LONG + ".toml", ["sweep matrix", "255"]),
+    W("out-name-too-long", "sweep-small", ["--out = {tmp}/" + LONG + ".h5", "239"], out=False,
+      extra=["--out", "{tmp}/" + LONG + ".h5"]),
     W("axis-unknown-key", RIG + '[axes]\n"rod.colour" = ["red"]\n', ["rod.colour", "red"]),
     W("axis-empty", RIG + '[axes]\n"drive.speed" = []\n', ["drive.speed", "at least one value"]),
     W("range-without-step",
@@ -970,6 +996,9 @@ def _snapshot(root):
             snap[os.path.relpath(os.path.join(dirpath, d), root)] = "<dir>"
         for f in filenames:
             p = os.path.join(dirpath, f)
+            if not os.path.isfile(p):  # a FIFO: its type, not its content (reading would block)
+                snap[os.path.relpath(p, root)] = "<not regular>"
+                continue
             with open(p, "rb") as fh:
                 snap[os.path.relpath(p, root)] = hashlib.sha256(fh.read()).hexdigest()
     return snap
@@ -989,7 +1018,11 @@ def check(case, tmp_path, artifacts=None):
     for name, content in case.files.items():
         path = tmp / name
         path.parent.mkdir(parents=True, exist_ok=True)
-        if content in (STORE, RUNH5, CUT):
+        if content is FIFO:
+            os.mkfifo(path)
+        elif content is LINK:
+            os.symlink("plain", path)
+        elif content in (STORE, RUNH5, CUT):
             path.write_bytes(artifacts[content])
         elif isinstance(content, bytes):
             path.write_bytes(content)
