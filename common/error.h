@@ -27,13 +27,30 @@ namespace flexrod {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& key, const std::string& value, const std::string& rule)
-      : std::runtime_error(key + " = " + (value.empty() ? std::string("\"\"") : value) + ": " +
+      : std::runtime_error(Printable(key) + " = " +
+                           (value.empty() ? std::string("\"\"") : Printable(value)) + ": " +
                            rule),  // an empty value reads "": seen as one
         key_(key),
         value_(value),
         rule_(rule) {}
   const std::string& key() const { return key_; }
   const std::string& value() const { return value_; }
+  /// `text` with control characters as \xNN (a terminal would act on them, a log hide them).
+  static std::string Printable(const std::string& text) {
+    std::string out;
+    for (const char ch : text) {
+      const unsigned char u = static_cast<unsigned char>(ch);
+      if (u < 0x20 || u == 0x7f) {
+        static const char kHex[] = "0123456789abcdef";
+        out += "\\x";
+        out += kHex[u >> 4];
+        out += kHex[u & 15];
+      } else {
+        out += ch;
+      }
+    }
+    return out;
+  }
   const std::string& rule() const { return rule_; }
 
  private:

@@ -40,12 +40,17 @@ std::string SystemReason() {
   return reason;
 }
 
-/// HDF5 calls that failed so far on this thread (a Node notes the count at its file's creation;
-/// a file is written, and closed, on the thread that created it).
+/// HDF5 calls other than reads that failed so far on this thread (a Node notes the count at its
+/// file's creation; a file is written, and closed, on the thread that created it).
 thread_local long g_failures = 0;
 
 [[noreturn]] void Fail(const char* call, const std::string& what) {
-  ++g_failures;
+  // A failed read (a missing attribute, a file that is not a store) is an answer, not a failed
+  // write: only the others count against the files open on this thread.
+  const std::string c = call;
+  const bool read = c.find("open") != std::string::npos || c.find("read") != std::string::npos ||
+                    c.find("get") != std::string::npos || c.find("iterate") != std::string::npos;
+  if (!read) ++g_failures;
   const std::string reason = SystemReason();
   H5Eclear2(H5E_DEFAULT);
   throw IoError(std::string("HDF5 ") + call + " failed for '" + what + "'" +

@@ -462,6 +462,13 @@ NormalLaw BuildHybridLaw(Resolver& r, const Context& c) {
       "working-penetration", "m", [] { return kDefaultWorkingPenetration; }, "default");
   const LogLineCurve esdu = EsduCurve(c.pi_compliance, g.length, g.clearance());
   if (!(w < CurveLimitPenetration(esdu))) {
+    if (!r.Has("working-penetration")) {  // the default: the clearance is what is too small
+      throw InputError("clearance", FormatValue(g.clearance()) + " m",
+                       "is too small for the ESDU-78035 law: its curve ends at 4*clearance = " +
+                           FormatValue(CurveLimitPenetration(esdu)) +
+                           " m, below the default working penetration " + FormatValue(w) +
+                           " m; set a working penetration below that, or a larger clearance");
+    }
     throw InputError("working-penetration", FormatValue(w) + " m",
                      "must be below the ESDU-78035 branch limit 4*clearance = " +
                          FormatValue(CurveLimitPenetration(esdu)) + " m");

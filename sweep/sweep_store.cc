@@ -405,7 +405,12 @@ SweepStore ReadStore(const std::string& path, bool with_channels) {
   } catch (const IoError&) {
     throw InputError("store", path, "is not an HDF5 file");
   }
-  if (!file.HasAttr("format") || file.GetString("format") != kFormat) {
+  std::string format;
+  try {
+    if (file.HasAttr("format")) format = file.GetString("format");
+  } catch (const IoError&) {  // not a string: not flexrod's
+  }
+  if (format != kFormat) {
     throw InputError(
         "store", path,
         "is not a flexrod sweep store (attribute format != '" + std::string(kFormat) + "')");
@@ -438,7 +443,7 @@ bool StoreIndex::IsStore(const std::string& path) {
   try {
     std::lock_guard<std::recursive_mutex> lock(Hdf5Mutex());
     const h5::Node file = h5::OpenFile(path);
-    return file.HasAttr("format") && file.GetString("format") == kFormat;
+    return file.HasAttr("format") && file.GetString("format") == kFormat;  // IoError: not a string
   } catch (const IoError&) {
     return false;
   }

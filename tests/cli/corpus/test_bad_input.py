@@ -100,6 +100,9 @@ RUN = [
     R("out-name-too-long", [], ["--out = {tmp}/" + LONG, "255"], out=False,
       extra=["--no-plot", "--out", "{tmp}/" + LONG]),
     R("vtk-name-too-long", [], ["--vtk = {tmp}/" + LONG, "255"], extra=["--vtk", "{tmp}/" + LONG]),
+    R("control-character", ["rod.material=st\x01eel"], ["rod.material = st\\x01eel"]),
+    R("clearance-below-the-default-penetration", ["joint.clearance=1e-9 m"],
+      ["joint.clearance = ", "too small for the ESDU-78035 law"]),
     R("array-of-tables", [], ["[[rod]]", "array of tables is not allowed"],
       input="{tmp}/a.toml", files={"a.toml": '[[rod]]\nheight = "1 mm"\n'}),
     # unknown and misspelt keys
