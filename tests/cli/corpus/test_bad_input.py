@@ -100,6 +100,8 @@ RUN = [
     R("out-name-too-long", [], ["--out = {tmp}/" + LONG, "255"], out=False,
       extra=["--no-plot", "--out", "{tmp}/" + LONG]),
     R("vtk-name-too-long", [], ["--vtk = {tmp}/" + LONG, "255"], extra=["--vtk", "{tmp}/" + LONG]),
+    R("thickness-above-length", ["rod.thickness=3175 m"],
+      ["rod.thickness = 3175 m", "must be below rod.length"]),
     R("control-character", ["rod.material=st\x01eel"], ["rod.material = st\\x01eel"]),
     R("clearance-below-the-default-penetration", ["joint.clearance=1e-9 m"],
       ["joint.clearance = ", "too small for the ESDU-78035 law"]),
