@@ -66,6 +66,13 @@ void TransposeProduct(const Chain& ch, const Mat2& R, const double* sigma, Add a
   add(0, kTheta, moment0);
 }
 
+/// σ = Y diag(c) η̇ into stress.
+void ModalStress(const CorotatedDamping& d, const double* eta_dot, Vec* stress) {
+  stress->setZero();
+  for (int i = 0; i < d.num_states(); ++i)
+    stress->noalias() += (d.coefficients(i) * eta_dot[i]) * d.modes.col(i);
+}
+
 }  // namespace
 
 Mat CorotatedRateMap(const Mechanism& m, const std::vector<BodyId>& bodies, const Vec& p) {
@@ -96,10 +103,9 @@ void AddCorotatedDampingResidual(const Mechanism& m, const CorotatedDamping& d, 
   const Chain ch{m, d, p, v};
   Rates(ch, s->rates.data());
   const double* eta_dot = zd + d.state_offset;
-  s->stress.setZero();
+  ModalStress(d, eta_dot, &s->stress);
   for (int i = 0; i < d.num_states(); ++i) {
     r5[d.state_offset + i] = eta_dot[i] - d.modes.col(i).dot(s->rates);
-    s->stress.noalias() += (d.coefficients(i) * eta_dot[i]) * d.modes.col(i);
     *dissipation += d.coefficients(i) * eta_dot[i] * eta_dot[i];
   }
   TransposeProduct(ch, ch.R(), s->stress.data(),
@@ -154,9 +160,7 @@ void AddCorotatedDampingJacobian(const Mechanism& m, const CorotatedDamping& d, 
 
   // F2 rows × p columns at fixed σ: F2 holds +Bᵀ σ, which turns with R and whose moment on
   // body 0 has the arms r_k − r_0.
-  s->stress.setZero();
-  for (int i = 0; i < d.num_states(); ++i)
-    s->stress.noalias() += (d.coefficients(i) * eta_dot[i]) * d.modes.col(i);
+  ModalStress(d, eta_dot, &s->stress);
   const int o0 = ch.offset(0);
   for (int k = 1; k < n; ++k) {
     const Vec2 g = R * s->stress.segment<2>(3 * (k - 1));

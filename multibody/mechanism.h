@@ -312,9 +312,11 @@ struct ElementSlot {
 struct CorotatedDamping {
   std::string name;
   std::vector<int> bodies;  ///< body indices, n >= 2; bodies[0] carries the frame
-  Mat modes;                ///< Y, 3(n − 1) × r: modal rates w = Yᵀ ḋ
-  Vec coefficients;         ///< c (r): generalized damping forces −Bᵀ Y diag(c) w
-  int state_offset{0};      ///< first of its r states in z (relative to the z block)
+  /// Y, 3(n − 1) × r: modal rates w = Yᵀ ḋ [√kg m/s for M-normalised modes; ḋ in m/s, rad/s]
+  Mat modes;
+  /// c (r) [1/s for M-normalised modes]: generalized damping forces −Bᵀ Y diag(c) w
+  Vec coefficients;
+  int state_offset{0};  ///< first of its r states in z (relative to the z block)
   int num_states() const { return static_cast<int>(coefficients.size()); }
 };
 
